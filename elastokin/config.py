@@ -1,0 +1,633 @@
+"""Suspension configuration: YAML file -> validated, resolved :class:`Suspension`.
+
+The file format is documented in the README ("Config reference"). Units at this boundary are fixed:
+lengths mm, forces N, torques N*mm, angles deg; the file declares them in ``units`` and the frame
+in ``frame`` so that a reader never guesses. Everything downstream works on the resolved
+:class:`Suspension`: hardpoint names replaced by coordinates (mm, config frame), axes normalised,
+bushing frames as rotation matrices (columns x, y, z of the bushing frame in the config frame).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Annotated, Literal, Union
+
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from .errors import ConfigError
+from .laws import DirectionLaw, law_from_spec
+
+Vector3 = tuple[float, float, float]
+PointSpec = Union[str, Vector3]
+
+BUSHING_DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class AxisBetween(_Strict):
+    """An axis given by two points: unit vector from ``from`` to ``to``."""
+
+    from_: PointSpec = Field(alias="from")
+    to: PointSpec
+
+
+AxisSpec = Union[Vector3, AxisBetween]
+
+
+class Units(_Strict):
+    length: Literal["mm"] = "mm"
+    force: Literal["N"] = "N"
+    angle: Literal["deg"] = "deg"
+
+
+class Frame(_Strict):
+    """Direction of the config frame's axes relative to the vehicle (Z is always up)."""
+
+    x: Literal["forward", "rearward"]
+    y: Literal["left", "right"]
+    z: Literal["up"] = "up"
+
+    @model_validator(mode="after")
+    def _right_handed(self) -> Frame:
+        if (self.x == "forward") != (self.y == "left"):
+            raise ValueError(
+                f"x {self.x} with y {self.y} is a left-handed frame; use x forward/y left "
+                "(ISO 8855) or x rearward/y right (ADAMS/Car)"
+            )
+        return self
+
+
+class PartSpec(_Strict):
+    mass_kg: float | None = Field(default=None, gt=0)
+    centre_of_mass: PointSpec | None = None
+    description: str = ""
+
+
+class WheelSpec(_Strict):
+    part: str
+    centre: PointSpec
+    spin_axis: AxisSpec
+    loaded_radius_mm: float = Field(gt=0)
+
+
+class _Joint(_Strict):
+    parts: tuple[str, str]
+    at: PointSpec
+    description: str = ""
+
+
+class SphericalSpec(_Joint):
+    type: Literal["spherical"]
+
+
+class FixedSpec(_Joint):
+    type: Literal["fixed"]
+
+
+class RevoluteSpec(_Joint):
+    type: Literal["revolute"]
+    axis: AxisSpec
+
+
+class CylindricalSpec(_Joint):
+    type: Literal["cylindrical"]
+    axis: AxisSpec
+
+
+class TranslationalSpec(_Joint):
+    type: Literal["translational"]
+    axis: AxisSpec
+
+
+class UniversalSpec(_Joint):
+    """Hooke joint: free to bend about the two axes normal to ``torsion_axis``."""
+
+    type: Literal["universal"]
+    torsion_axis: AxisSpec
+
+
+class RackSpec(_Joint):
+    """Steering rack: translational joint along ``axis`` held at ``travel_mm`` (0: locked)."""
+
+    type: Literal["rack"]
+    axis: AxisSpec
+    travel_mm: float = 0.0
+
+
+class LinkSpec(_Strict):
+    """Massless two-force rod with ball joints at both ends (e.g. a tie rod): fixed length."""
+
+    type: Literal["link"]
+    parts: tuple[str, str]
+    at: tuple[PointSpec, PointSpec]
+    description: str = ""
+
+
+class CurveSpec(_Strict):
+    """A force-deflection curve: deflection (mm or deg) -> force (N) or torque (N*mm)."""
+
+    deflection: list[float] = Field(min_length=2)
+    load: list[float] = Field(min_length=2)
+
+
+DirectionSpec = Union[float, CurveSpec]
+
+
+class BushingStiffness(_Strict):
+    """Per direction of the bushing frame: a rate (N/mm, N*mm/deg) or a curve."""
+
+    x: DirectionSpec
+    y: DirectionSpec
+    z: DirectionSpec
+    rx: DirectionSpec
+    ry: DirectionSpec
+    rz: DirectionSpec
+
+
+class Preload(_Strict):
+    force_N: Vector3 = (0.0, 0.0, 0.0)
+    torque_Nmm: Vector3 = (0.0, 0.0, 0.0)
+
+
+class InitialDeflection(_Strict):
+    translation_mm: Vector3 = (0.0, 0.0, 0.0)
+    rotation_deg: Vector3 = (0.0, 0.0, 0.0)
+
+
+IdealJoint = Literal["spherical", "revolute", "universal", "cylindrical", "fixed"]
+
+
+class BushingSpec(_Joint):
+    """A 6-DOF rubber bushing. Frame fixed to ``parts[0]``; deflection is ``parts[1]`` relative."""
+
+    type: Literal["bushing"]
+    axis: AxisSpec | None = None
+    radial: AxisSpec | None = None
+    euler_zxz_deg: Vector3 | None = None
+    stiffness: BushingStiffness
+    preload: Preload | None = None
+    initial_deflection: InitialDeflection | None = None
+    ideal_joint: IdealJoint = "spherical"
+
+    @model_validator(mode="after")
+    def _one_orientation(self) -> BushingSpec:
+        if self.euler_zxz_deg is None and (self.axis is None or self.radial is None):
+            raise ValueError("give either euler_zxz_deg or both axis (z) and radial (x)")
+        if self.euler_zxz_deg is not None and (self.axis is not None or self.radial is not None):
+            raise ValueError("give euler_zxz_deg or axis/radial, not both")
+        if self.preload is not None and self.initial_deflection is not None:
+            raise ValueError("give preload or initial_deflection, not both")
+        return self
+
+
+ConnectionSpec = Annotated[
+    Union[
+        SphericalSpec,
+        FixedSpec,
+        RevoluteSpec,
+        CylindricalSpec,
+        TranslationalSpec,
+        UniversalSpec,
+        RackSpec,
+        LinkSpec,
+        BushingSpec,
+    ],
+    Field(discriminator="type"),
+]
+
+
+class SpringSpec(_Strict):
+    """Coil spring between two seats; force along the seat-to-seat line."""
+
+    parts: tuple[str, str]
+    seats: tuple[PointSpec, PointSpec]
+    rate_N_per_mm: float = Field(gt=0)
+    free_length_mm: float | None = Field(default=None, gt=0)
+    preload_N: float | None = None
+    description: str = ""
+
+    @model_validator(mode="after")
+    def _length_or_preload(self) -> SpringSpec:
+        if self.free_length_mm is not None and self.preload_N is not None:
+            raise ValueError("give free_length_mm or preload_N, not both")
+        return self
+
+
+class DesignSpec(_Strict):
+    """The design position: the hardpoints are the static equilibrium under this wheel load."""
+
+    wheel_load_N: float = Field(gt=0)
+    balance_spring: str | None = None
+    balance_bushing_preloads: bool = False
+
+
+class SolverSpec(_Strict):
+    newton_tolerance: float = Field(default=1e-8, gt=0)  # relative to initial residual
+    max_newton_iterations: int = Field(default=25, gt=0)
+    modified_newton: bool = True
+    adaptive_step: bool = True
+
+
+class TravelSpec(_Strict):
+    rebound_mm: float = -90.0
+    bump_mm: float = 90.0
+    step_mm: float = Field(default=1.0, gt=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> TravelSpec:
+        if not self.rebound_mm < 0 < self.bump_mm:
+            raise ValueError("need rebound_mm < 0 < bump_mm (travel about the design position)")
+        return self
+
+
+class RigSpec(_Strict):
+    parallel_travel: TravelSpec = TravelSpec()
+
+
+class SuspensionFile(_Strict):
+    """Top-level schema of a suspension config file."""
+
+    elastokin: Literal[1]
+    name: str
+    units: Units
+    frame: Frame
+    side: Literal["left", "right"]
+    ground: str
+    hardpoints: dict[str, Vector3]
+    parts: dict[str, PartSpec]
+    wheel: WheelSpec
+    connections: dict[str, ConnectionSpec]
+    springs: dict[str, SpringSpec] = {}
+    design: DesignSpec
+    kinematic: bool = False
+    solver: SolverSpec = SolverSpec()
+    rig: RigSpec = RigSpec()
+
+    @field_validator("parts")
+    @classmethod
+    def _some_parts(cls, v: dict) -> dict:
+        if not v:
+            raise ValueError("at least one moving part is needed")
+        return v
+
+
+# ----------------------------------------------------------------------------------------------
+# Resolved model description (plain numbers, no names left to look up)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """An ideal joint. ``frame``: rotation matrix, columns = joint axes in the config frame;
+    ``constrained``: 6 flags (translation x y z, rotation x y z) in that frame."""
+
+    name: str
+    kind: str
+    parts: tuple[str, str]
+    position_mm: np.ndarray
+    frame: np.ndarray
+    constrained: tuple[int, int, int, int, int, int]
+    offset_mm: float = 0.0
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str
+    parts: tuple[str, str]
+    points_mm: tuple[np.ndarray, np.ndarray]
+
+
+@dataclass(frozen=True)
+class Bushing:
+    """6-DOF bushing; ``frame`` columns are its x (radial), y, z (axial) axes in the config frame.
+
+    ``laws`` map deflection (mm, deg) to load (N, N*mm) per direction x y z rx ry rz;
+    ``initial_deflection`` (mm, mm, mm, deg, deg, deg) is the deflection at the design position.
+    """
+
+    name: str
+    parts: tuple[str, str]
+    position_mm: np.ndarray
+    frame: np.ndarray
+    laws: tuple[DirectionLaw, ...]
+    initial_deflection: np.ndarray
+    ideal_joint: str
+    preload_given: bool
+
+
+@dataclass(frozen=True)
+class Spring:
+    name: str
+    parts: tuple[str, str]
+    seats_mm: tuple[np.ndarray, np.ndarray]
+    rate_N_per_mm: float
+    preload_N: float | None
+    free_length_mm: float | None
+
+    @property
+    def installed_length_mm(self) -> float:
+        return float(np.linalg.norm(self.seats_mm[1] - self.seats_mm[0]))
+
+    def design_force_N(self) -> float:
+        """Compression force at the design (installed) length, N (positive = pushing apart)."""
+        if self.preload_N is not None:
+            return self.preload_N
+        if self.free_length_mm is not None:
+            return self.rate_N_per_mm * (self.free_length_mm - self.installed_length_mm)
+        return 0.0
+
+
+@dataclass(frozen=True)
+class Wheel:
+    part: str
+    centre_mm: np.ndarray
+    spin_axis: np.ndarray  # unit, pointing outboard
+    loaded_radius_mm: float
+
+    @property
+    def contact_patch_mm(self) -> np.ndarray:
+        """Contact patch at design: below the centre in the wheel plane (config frame)."""
+        down = np.array([0.0, 0.0, -1.0])
+        radial = down - (down @ self.spin_axis) * self.spin_axis
+        return self.centre_mm + self.loaded_radius_mm * radial / np.linalg.norm(radial)
+
+
+@dataclass(frozen=True)
+class Suspension:
+    """A resolved suspension: everything in mm, N, deg, config frame."""
+
+    name: str
+    source: str
+    sha256: str
+    frame: Frame
+    side: str
+    ground: str
+    parts: dict[str, PartSpec]
+    hardpoints: dict[str, np.ndarray]
+    wheel: Wheel
+    joints: tuple[Joint, ...]
+    links: tuple[Link, ...]
+    bushings: tuple[Bushing, ...]
+    springs: tuple[Spring, ...]
+    design: DesignSpec
+    kinematic: bool
+    solver: SolverSpec
+    rig: RigSpec
+    raw: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def forward(self) -> np.ndarray:
+        """Unit vector pointing forward (vehicle), in the config frame."""
+        return np.array([1.0 if self.frame.x == "forward" else -1.0, 0.0, 0.0])
+
+    @property
+    def outboard(self) -> np.ndarray:
+        """Unit vector pointing away from the vehicle centreline on this wheel's side."""
+        left = np.array([0.0, 1.0 if self.frame.y == "left" else -1.0, 0.0])
+        return left if self.side == "left" else -left
+
+    @property
+    def up(self) -> np.ndarray:
+        return np.array([0.0, 0.0, 1.0])
+
+
+# ----------------------------------------------------------------------------------------------
+# Loading
+
+
+def _format_validation_error(path: str, err: ValidationError) -> str:
+    first = err.errors()[0]
+    loc = ".".join(str(p) for p in first["loc"] if not str(p).startswith("function-"))
+    msg = first["msg"]
+    extra = f" ({len(err.errors()) - 1} more problems)" if len(err.errors()) > 1 else ""
+    return f"{path}: key '{loc}': {msg}{extra}"
+
+
+def read_yaml(path: str | Path) -> tuple[dict, bytes]:
+    """Read a YAML mapping; errors name the file and line."""
+    p = Path(path)
+    try:
+        text = p.read_bytes()
+    except OSError as exc:
+        raise ConfigError(f"{p}: cannot read config file ({exc.strerror})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc)
+        raise ConfigError(f"{p}:{where}: malformed YAML: {problem}") from None
+    if not isinstance(data, dict):
+        raise ConfigError(f"{p}: expected a YAML mapping of config keys at the top level")
+    return data, text
+
+
+def load_suspension(path: str | Path, overrides: dict | None = None) -> Suspension:
+    """Load, validate and resolve a suspension config file.
+
+    ``overrides`` (optional) is merged over the top-level keys before validation (e.g.
+    ``{"kinematic": True}``); the hash still identifies the file's bytes plus the overrides.
+    """
+    data, text = read_yaml(path)
+    if overrides:
+        data = {**data, **overrides}
+    digest = hashlib.sha256(text)
+    if overrides:
+        digest.update(yaml.safe_dump(overrides, sort_keys=True).encode())
+    return suspension_from_dict(data, str(path), digest.hexdigest())
+
+
+def suspension_from_dict(data: dict, source: str = "<dict>", sha256: str = "") -> Suspension:
+    """Validate a config mapping and resolve names, axes and laws (see module docstring)."""
+    try:
+        spec = SuspensionFile.model_validate(data)
+    except ValidationError as err:
+        raise ConfigError(_format_validation_error(source, err)) from None
+    if not sha256:
+        sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
+    return _Resolver(spec, source).resolve(sha256, data)
+
+
+class _Resolver:
+    def __init__(self, spec: SuspensionFile, source: str):
+        self.spec = spec
+        self.source = source
+        self.hardpoints = {k: np.asarray(v, float) for k, v in spec.hardpoints.items()}
+
+    def fail(self, key: str, msg: str) -> ConfigError:
+        return ConfigError(f"{self.source}: key '{key}': {msg}")
+
+    def point(self, p: PointSpec, key: str) -> np.ndarray:
+        if isinstance(p, str):
+            if p not in self.hardpoints:
+                raise self.fail(key, f"hardpoint '{p}' is not defined under 'hardpoints'")
+            return self.hardpoints[p].copy()
+        return np.asarray(p, float)
+
+    def axis(self, a: AxisSpec, key: str) -> np.ndarray:
+        if isinstance(a, AxisBetween):
+            v = self.point(a.to, key + ".to") - self.point(a.from_, key + ".from")
+            n = np.linalg.norm(v)
+            if n < 1e-9:
+                raise self.fail(key, "'from' and 'to' are the same point: the axis is undefined")
+            return v / n
+        v = np.asarray(a, float)
+        n = np.linalg.norm(v)
+        if n < 1e-9:
+            raise self.fail(key, "axis vector is zero; give a unit vector")
+        if abs(n - 1.0) > 1e-3:
+            raise self.fail(key, f"axis vector {list(v)} has length {n:.4g}; give a unit vector")
+        return v / n
+
+    def part(self, name: str, key: str) -> str:
+        if name != self.spec.ground and name not in self.spec.parts:
+            raise self.fail(
+                key, f"part '{name}' is not defined (parts: {', '.join(self.spec.parts)}; "
+                f"ground: {self.spec.ground})"
+            )
+        return name
+
+    def parts(self, names: tuple[str, str], key: str) -> tuple[str, str]:
+        a, b = (self.part(n, f"{key}.parts") for n in names)
+        if a == b:
+            raise self.fail(f"{key}.parts", f"connects part '{a}' to itself")
+        return a, b
+
+    def frame_from_z(self, z: np.ndarray) -> np.ndarray:
+        """A right-handed frame whose z column is ``z`` (x chosen normal to it)."""
+        helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+        x = helper - (helper @ z) * z
+        x /= np.linalg.norm(x)
+        return np.column_stack([x, np.cross(z, x), z])
+
+    def bushing_frame(self, c: BushingSpec, key: str) -> np.ndarray:
+        if c.euler_zxz_deg is not None:
+            from scipy.spatial.transform import Rotation
+
+            return Rotation.from_euler("ZXZ", c.euler_zxz_deg, degrees=True).as_matrix()
+        z = self.axis(c.axis, key + ".axis")
+        x = self.axis(c.radial, key + ".radial")
+        x = x - (x @ z) * z
+        n = np.linalg.norm(x)
+        if n < 1e-6:
+            raise self.fail(key + ".radial", "radial direction is parallel to the axis")
+        x /= n
+        return np.column_stack([x, np.cross(z, x), z])
+
+    def resolve(self, sha256: str, raw: dict) -> Suspension:
+        s = self.spec
+        for name in s.parts:
+            if name == s.ground:
+                raise self.fail(f"parts.{name}", "the ground part must not be listed under parts")
+        for name, p in s.parts.items():
+            if p.centre_of_mass is not None:
+                self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
+        joints, links, bushings = [], [], []
+        for name, c in s.connections.items():
+            key = f"connections.{name}"
+            parts = self.parts(c.parts, key)
+            if isinstance(c, LinkSpec):
+                pts = (self.point(c.at[0], key + ".at"), self.point(c.at[1], key + ".at"))
+                if np.linalg.norm(pts[1] - pts[0]) < 1e-6:
+                    raise self.fail(key + ".at", "a link needs two distinct points")
+                links.append(Link(name, parts, pts))
+                continue
+            pos = self.point(c.at, key + ".at")
+            if isinstance(c, BushingSpec):
+                bushings.append(self.bushing(name, c, parts, pos, key))
+                continue
+            kind = c.type
+            if kind in ("spherical", "fixed"):
+                frame = np.eye(3)
+            elif kind == "universal":
+                frame = self.frame_from_z(self.axis(c.torsion_axis, key + ".torsion_axis"))
+            else:
+                frame = self.frame_from_z(self.axis(c.axis, key + ".axis"))
+            offset = c.travel_mm if isinstance(c, RackSpec) else 0.0
+            joints.append(Joint(name, kind, parts, pos, frame, CONSTRAINED[kind], offset))
+        springs = []
+        for name, sp in s.springs.items():
+            key = f"springs.{name}"
+            parts = self.parts(sp.parts, key)
+            seats = (self.point(sp.seats[0], key + ".seats"), self.point(sp.seats[1], key + ".seats"))
+            if np.linalg.norm(seats[1] - seats[0]) < 1e-6:
+                raise self.fail(key + ".seats", "the two spring seats coincide")
+            springs.append(
+                Spring(name, parts, seats, sp.rate_N_per_mm, sp.preload_N, sp.free_length_mm)
+            )
+        d = s.design
+        if d.balance_spring is not None:
+            if d.balance_spring not in s.springs:
+                raise self.fail("design.balance_spring", f"spring '{d.balance_spring}' is not "
+                                f"defined under 'springs' ({', '.join(s.springs) or 'none'})")
+            sp = s.springs[d.balance_spring]
+            if sp.free_length_mm is not None or sp.preload_N is not None:
+                raise self.fail(f"springs.{d.balance_spring}", "its preload is solved from "
+                                "design.wheel_load_N: remove free_length_mm / preload_N")
+        for sp_name, sp in s.springs.items():
+            if sp_name != d.balance_spring and sp.free_length_mm is None and sp.preload_N is None:
+                raise self.fail(f"springs.{sp_name}", "give free_length_mm or preload_N, or "
+                                "name it in design.balance_spring")
+        if d.balance_bushing_preloads:
+            for b in bushings:
+                if b.preload_given:
+                    raise self.fail(f"connections.{b.name}", "preload / initial_deflection "
+                                    "conflicts with design.balance_bushing_preloads: true")
+        w = s.wheel
+        wheel_part = self.part(w.part, "wheel.part")
+        if wheel_part == s.ground:
+            raise self.fail("wheel.part", "the wheel cannot be carried by the ground part")
+        centre = self.point(w.centre, "wheel.centre")
+        spin = self.axis(w.spin_axis, "wheel.spin_axis")
+        res = Suspension(
+            name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
+            ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
+            wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
+            joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
+            springs=tuple(springs), design=d, kinematic=s.kinematic, solver=s.solver, rig=s.rig,
+            raw=raw,
+        )
+        # orient the spin axis outboard, whatever sign the file used
+        if spin @ res.outboard < 0:
+            object.__setattr__(res.wheel, "spin_axis", -spin)
+        return res
+
+    def bushing(self, name: str, c: BushingSpec, parts, pos, key: str) -> Bushing:
+        frame = self.bushing_frame(c, key)
+        laws = []
+        for d in BUSHING_DIRECTIONS:
+            try:
+                laws.append(law_from_spec(getattr(c.stiffness, d)))
+            except ValueError as exc:
+                raise self.fail(f"{key}.stiffness.{d}", str(exc)) from None
+        laws = tuple(laws)
+        if c.initial_deflection is not None:
+            u0 = np.r_[c.initial_deflection.translation_mm, c.initial_deflection.rotation_deg]
+        elif c.preload is not None:
+            loads = np.r_[c.preload.force_N, c.preload.torque_Nmm]
+            try:
+                u0 = np.array([law.deflection_at(f) for law, f in zip(laws, loads)])
+            except ValueError as exc:
+                raise self.fail(f"{key}.preload", str(exc)) from None
+        else:
+            u0 = np.zeros(6)
+        return Bushing(name, parts, pos, frame, laws, u0, c.ideal_joint,
+                       c.preload is not None or c.initial_deflection is not None)
+
+
+#: constrained axes (tx ty tz rx ry rz) in the joint frame, whose z is the joint axis
+CONSTRAINED = {
+    "spherical": (1, 1, 1, 0, 0, 0),
+    "fixed": (1, 1, 1, 1, 1, 1),
+    "revolute": (1, 1, 1, 1, 1, 0),
+    "cylindrical": (1, 1, 0, 1, 1, 0),
+    "translational": (1, 1, 0, 1, 1, 1),
+    "rack": (1, 1, 1, 1, 1, 1),
+    "universal": (1, 1, 1, 0, 0, 1),
+}
