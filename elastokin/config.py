@@ -12,7 +12,7 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
 import numpy as np
 import yaml
@@ -22,7 +22,7 @@ from .errors import ConfigError
 from .laws import DirectionLaw, law_from_spec
 
 Vector3 = tuple[float, float, float]
-PointSpec = Union[str, Vector3]
+PointSpec = str | Vector3
 
 BUSHING_DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
 
@@ -38,7 +38,7 @@ class AxisBetween(_Strict):
     to: PointSpec
 
 
-AxisSpec = Union[Vector3, AxisBetween]
+AxisSpec = Vector3 | AxisBetween
 
 
 class Units(_Strict):
@@ -137,7 +137,7 @@ class CurveSpec(_Strict):
     load: list[float] = Field(min_length=2)
 
 
-DirectionSpec = Union[float, CurveSpec]
+DirectionSpec = float | CurveSpec
 
 
 class BushingStiffness(_Strict):
@@ -188,17 +188,8 @@ class BushingSpec(_Joint):
 
 
 ConnectionSpec = Annotated[
-    Union[
-        SphericalSpec,
-        FixedSpec,
-        RevoluteSpec,
-        CylindricalSpec,
-        TranslationalSpec,
-        UniversalSpec,
-        RackSpec,
-        LinkSpec,
-        BushingSpec,
-    ],
+    SphericalSpec | FixedSpec | RevoluteSpec | CylindricalSpec | TranslationalSpec
+    | UniversalSpec | RackSpec | LinkSpec | BushingSpec,
     Field(discriminator="type"),
 ]
 
@@ -555,7 +546,8 @@ class _Resolver:
         for name, sp in s.springs.items():
             key = f"springs.{name}"
             parts = self.parts(sp.parts, key)
-            seats = (self.point(sp.seats[0], key + ".seats"), self.point(sp.seats[1], key + ".seats"))
+            seats = (self.point(sp.seats[0], key + ".seats"),
+                     self.point(sp.seats[1], key + ".seats"))
             if np.linalg.norm(seats[1] - seats[0]) < 1e-6:
                 raise self.fail(key + ".seats", "the two spring seats coincide")
             springs.append(

@@ -57,6 +57,12 @@ class DirectionLaw:
         i = int(np.clip(np.searchsorted(u, 0.0, side="right") - 1, 0, u.size - 2))
         return float(self.slopes[i])
 
+    @property
+    def is_linear(self) -> bool:
+        """True when the curve is one straight line through the origin."""
+        s = self.slopes
+        return bool(np.all(np.abs(s - s[0]) <= 1e-12 * abs(s[0])))
+
     def __call__(self, u):
         """Load (N or N*mm) at deflection ``u`` (mm or deg); array-friendly."""
         u = np.asarray(u, float)

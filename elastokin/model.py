@@ -10,7 +10,7 @@ identity, so a body's local frame is the config frame at the design position). P
 - bushings: ``ObjectConnectorRigidBodySpringDamper`` whose 6 loads come from a symbolic user
   function (C++ speed) evaluating the piecewise-linear laws at deflection + initial deflection;
   in the kinematic model a bushing becomes its ideal joint, plus a regularising rotational spring
-  of 1e-6 times its rates on the joint's free rotations (it only fixes idle spins, e.g. of a link
+  of 1e-3 times its rates on the joint's free rotations (it only fixes idle spins, e.g. of a link
   arm about its own axis, and does not change the kinematics);
 - coil springs: ``ObjectConnectorSpringDamper`` between the seats;
 - the wheel: the contact patch point on the wheel part. The K&C rig pad prescribes its vertical
@@ -43,6 +43,9 @@ from exudyn.itemInterface import (  # noqa: E402
     ObjectConnectorSpringDamper,
     ObjectGround,
     ObjectJointGeneric,
+    ObjectJointSpherical,
+    SensorBody,
+    SensorObject,
 )
 from exudyn.rigidBodyUtilities import InertiaCuboid  # noqa: E402
 
@@ -52,7 +55,9 @@ EXUDYN_VERSION = exu.__version__
 _DEG = np.pi / 180.0
 #: stiffness of the regularising springs on an ideal joint's free rotations, relative to the
 #: bushing's rotational rates (kinematic model only)
-REGULARISATION = 1e-6
+REGULARISATION = 1e-3
+#: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
+ABSOLUTE_TOLERANCE = 1e-6
 #: stiffness used to hold a bushing rigid in its ideal directions while balancing preloads
 _PENALTY_TRANSLATION = 1e6  # N/mm
 _PENALTY_ROTATION = 1e9  # N*mm/rad
@@ -64,12 +69,22 @@ class ModelOptions:
 
     kinematic: bushings replaced by their ideal joints.
     stiffness_scale: every bushing law's load multiplied by this factor.
-    bushing_user_function: ``"symbolic"`` (C++ evaluation) or ``"python"`` (reference/naive).
+    user_functions: how bushing laws and rig paths are evaluated: ``"symbolic"`` (Exudyn
+        symbolic functions at C++ speed; linear bushings use Exudyn's own stiffness matrix) or
+        ``"python"`` (Python callbacks: the straightforward, slow reference).
     """
 
     kinematic: bool = False
     stiffness_scale: float = 1.0
-    bushing_user_function: str = "symbolic"
+    user_functions: str = "symbolic"
+
+    def __post_init__(self):
+        if self.user_functions not in ("symbolic", "python"):
+            raise ModelError(f"ModelOptions.user_functions must be 'symbolic' or 'python', "
+                             f"got '{self.user_functions}'")
+        if not self.stiffness_scale > 0:
+            raise ModelError(f"ModelOptions.stiffness_scale must be positive, got "
+                             f"{self.stiffness_scale}")
 
 
 @dataclass
@@ -138,10 +153,8 @@ class SuspensionModel:
         }
         self._spring_force = {s.name: (spring_force_N or {}).get(s.name, s.design_force_N())
                               for s in suspension.springs}
-        self._keep_alive: list = []
-        self._pad_mode = "force"
-        self._pad_path: tuple[np.ndarray, np.ndarray] = (np.array([0.0, 1.0]), np.zeros(2))
-        self._load_path: tuple[np.ndarray, np.ndarray] = (np.array([0.0, 1.0]), np.zeros((2, 6)))
+        self._keep_alive: list = []  # symbolic rig paths of the current run
+        self._bushing_functions: list = []
         self._build()
 
     # ------------------------------------------------------------------ building
@@ -198,17 +211,17 @@ class SuspensionModel:
                                               localHT=exu.HT(np.eye(3), self.patch_local)))
         self.pad = mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[pad_g, pad_w], constrainedAxes=[0, 0, 1, 0, 0, 0],
-            offsetUserFunction=self._pad_offset, activeConnector=False, name="rig:pad"))
+            activeConnector=False, name="rig:pad"))
         centre_w = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[w.part],
                                                  localHT=exu.HT(np.eye(3), self.centre_local)))
-        self.pad_force = mbs.AddLoad(LoadForceVector(
-            markerNumber=pad_w, loadVector=[0, 0, 0], loadVectorUserFunction=self._pad_load))
-        self.centre_force = mbs.AddLoad(LoadForceVector(
-            markerNumber=centre_w, loadVector=[0, 0, 0],
-            loadVectorUserFunction=self._centre_load))
-        self.centre_torque = mbs.AddLoad(LoadTorqueVector(
-            markerNumber=centre_w, loadVector=[0, 0, 0],
-            loadVectorUserFunction=self._centre_torque))
+        self._loads = {
+            "pad_force": mbs.AddLoad(LoadForceVector(markerNumber=pad_w, loadVector=[0, 0, 0])),
+            "centre_force": mbs.AddLoad(LoadForceVector(markerNumber=centre_w,
+                                                        loadVector=[0, 0, 0])),
+            "centre_torque": mbs.AddLoad(LoadTorqueVector(markerNumber=centre_w,
+                                                          loadVector=[0, 0, 0])),
+        }
+        self._add_sensors()
         _exudyn_call(mbs.Assemble, f"{s.source}: assembling the model")
 
     def _part_points(self) -> dict[str, list[np.ndarray]]:
@@ -241,6 +254,12 @@ class SuspensionModel:
 
     def _add_joint(self, name, parts, position, frame, constrained, offset_mm=0.0,
                    prefix="joint") -> int:
+        if list(constrained) == [1, 1, 1, 0, 0, 0] and not offset_mm:
+            # 3 algebraic equations instead of the generic joint's 6
+            return self.mbs.AddObject(ObjectJointSpherical(
+                markerNumbers=[self._position_marker(parts[0], position),
+                               self._position_marker(parts[1], position)],
+                name=f"{prefix}:{name}"))
         m0 = self._rigid_marker(parts[0], position, frame)
         m1 = self._rigid_marker(parts[1], position, frame)
         kwargs = {}
@@ -280,50 +299,80 @@ class SuspensionModel:
             return entry
         laws = [law.scaled(self.options.stiffness_scale) for law in b.laws]
         u0 = self._initial_deflection[b.name]
+        if all(law.is_linear for law in laws) and self.options.user_functions == "symbolic":
+            # linear laws: Exudyn's own K * (u - offset), no user function at all
+            offset = -np.r_[u0[:3], u0[3:] * _DEG]
+            obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
+                markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
+                offset=offset.tolist(), name=f"bushing:{b.name}"))
+            entry.update(object=obj, linear=True, laws=laws, u0=u0)
+            return entry
         obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
             markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
             name=f"bushing:{b.name}"))
-        uf = make_bushing_function(laws, u0, symbolic=self.options.bushing_user_function
-                                   == "symbolic")
-        if self.options.bushing_user_function == "symbolic":
-            sym = CreateSymbolicUserFunction(mbs, uf, "springForceTorqueUserFunction", obj)
-            self._keep_alive.append(sym)
-            mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", sym)
-        elif self.options.bushing_user_function == "python":
-            mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
-        else:
-            raise ModelError(f"unknown bushing_user_function "
-                             f"'{self.options.bushing_user_function}' (symbolic or python)")
+        symbolic = self.options.user_functions == "symbolic"
+        uf = make_bushing_function(laws, u0, symbolic=symbolic)
+        if symbolic:
+            uf = CreateSymbolicUserFunction(mbs, uf, "springForceTorqueUserFunction", obj)
+            self._bushing_functions.append(uf)  # the expression tree must outlive the model
+        mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
         entry.update(object=obj, linear=False, laws=laws, u0=u0)
         return entry
 
+    def _add_sensors(self) -> None:
+        """Record every output in C++ at each load step (no Python call per step)."""
+        mbs = self.mbs
+        ovt = exu.OutputVariableType
+        b = self.body[self.suspension.wheel.part]
+
+        def body(output, local=(0.0, 0.0, 0.0)):
+            return mbs.AddSensor(SensorBody(bodyNumber=b, localPosition=list(local),
+                                            outputVariableType=output, storeInternal=True,
+                                            writeToFile=False))
+
+        def obj(number, output):
+            return mbs.AddSensor(SensorObject(objectNumber=number, outputVariableType=output,
+                                              storeInternal=True, writeToFile=False))
+
+        self._sensors = {
+            "rotation": body(ovt.RotationMatrix),
+            "centre": body(ovt.Position, self.centre_local),
+            "patch": body(ovt.Position, self.patch_local),
+            "pad": obj(self.pad, ovt.ForceLocal),
+        }
+        for name, o in self._springs.items():
+            self._sensors[f"spring:{name}"] = obj(o, ovt.ForceLocal)
+        for name, e in self._bushings.items():
+            for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
+                                ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
+                self._sensors[f"bushing:{name}:{key}"] = obj(e["object"], output)
+
     # ------------------------------------------------------------------ rig inputs
-    def _interp(self, path, t):
-        ts, vs = path
-        if vs.ndim == 1:
-            return float(np.interp(t, ts, vs))
-        return np.array([np.interp(t, ts, vs[:, i]) for i in range(vs.shape[1])])
-
-    def _pad_offset(self, mbs, t, itemNumber, params):
-        return [0.0, 0.0, self._interp(self._pad_path, t), 0.0, 0.0, 0.0]
-
-    def _pad_load(self, mbs, t, load):
-        return list(self._interp(self._load_path, t)[0:3])
-
-    def _centre_load(self, mbs, t, load):
-        return list(self._interp(self._centre_path, t)[0:3])
-
-    def _centre_torque(self, mbs, t, load):
-        return list(self._interp(self._centre_path, t)[3:6])
-
-    _centre_path: tuple[np.ndarray, np.ndarray] = (np.array([0.0, 1.0]), np.zeros((2, 6)))
+    def _set_path(self, kind: str, item: int, ts: np.ndarray, values: np.ndarray) -> None:
+        """Make a rig input follow the piecewise-linear path ``values`` (n+1, k) over load
+        time ``ts``: a constant when it is constant, otherwise a user function of t."""
+        mbs = self.mbs
+        set_param = mbs.SetObjectParameter if kind == "offset" else mbs.SetLoadParameter
+        uf_name = "offsetUserFunction" if kind == "offset" else "loadVectorUserFunction"
+        const = np.allclose(values, values[0], rtol=0.0, atol=0.0)
+        if const and kind != "offset":
+            set_param(item, uf_name, 0)
+            set_param(item, "loadVector", values[0].tolist())
+            return
+        fn = make_path_function(ts, values, kind, symbolic=self.options.user_functions
+                                == "symbolic")
+        if self.options.user_functions == "symbolic":
+            fn = CreateSymbolicUserFunction(mbs, fn, uf_name, item)
+            self._keep_alive.append(fn)
+        set_param(item, uf_name, fn)
 
     # ------------------------------------------------------------------ solving
     def _settings(self, steps: int):
         sv = self.suspension.solver
         ss = exu.SimulationSettings()
         ss.solution.file.write = False
-        ss.solution.sensors.active = False
+        ss.solution.sensors.active = True  # internal storage only: every sensor has no file
+        ss.solution.sensors.writePeriod = 0.0
         st = ss.staticSolver
         st.numberOfLoadSteps = steps
         st.useLoadFactor = False  # loads follow their user functions of t, not a load factor
@@ -332,7 +381,7 @@ class SuspensionModel:
         st.stepInformation = 0
         st.newton.useModifiedNewton = sv.modified_newton
         st.newton.relativeTolerance = sv.newton_tolerance
-        st.newton.absoluteTolerance = 1e-6  # N, N*mm, mm: residual noise floor
+        st.newton.absoluteTolerance = ABSOLUTE_TOLERANCE
         st.newton.maxIterations = sv.max_newton_iterations
         ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
         return ss
@@ -342,13 +391,14 @@ class SuspensionModel:
         sv = self.suspension.solver
         return {
             "solver": "exudyn SolveStatic (Newton, load steps along the rig path)",
-            "newton_tolerance": sv.newton_tolerance,
+            "newton_relative_tolerance": sv.newton_tolerance,
+            "newton_absolute_tolerance": ABSOLUTE_TOLERANCE,
             "max_newton_iterations": sv.max_newton_iterations,
             "modified_newton": sv.modified_newton,
             "adaptive_step": sv.adaptive_step,
             "linear_solver": "EigenDense",
             "node_type": "RotationRxyz",
-            "bushing_user_function": self.options.bushing_user_function,
+            "user_functions": self.options.user_functions,
             "kinematic": self.options.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
         }
@@ -356,90 +406,105 @@ class SuspensionModel:
     def run(self, pad_z_mm: Sequence[float] | None = None,
             pad_loads: np.ndarray | None = None,
             centre_loads: np.ndarray | None = None,
-            what: str = "static solve") -> list[StepState]:
-        """Solve a sequence of quasi-static steps from the design position, one Exudyn solve.
+            what: str = "static solve", solve_per_step: bool = False) -> list[StepState]:
+        """Solve a sequence of quasi-static steps from the design position.
 
         pad_z_mm: prescribed vertical displacement of the contact patch per step (mm), or None
             for force control (then the patch is free and ``pad_loads`` must carry Fz).
         pad_loads: (n, 3) forces at the contact patch per step, N, config frame.
         centre_loads: (n, 6) forces (N) and torques (N*mm) at the wheel centre per step.
-        Returns one :class:`StepState` per step.
+        solve_per_step: one Exudyn ``SolveStatic`` per step (the slow, straightforward way,
+            kept for benchmarks) instead of one solve over all steps.
+        Returns one :class:`StepState` per step. Raises :class:`SolverError` naming the step
+        that did not converge.
         """
+        if pad_z_mm is None and pad_loads is None:
+            raise ModelError("run: give pad_z_mm (displacement control) or pad_loads")
         n = len(pad_z_mm) if pad_z_mm is not None else len(pad_loads)
         ts = np.linspace(0.0, 1.0, n + 1)
-        zeros = np.zeros((n, 3))
-        pl = np.asarray(pad_loads, float) if pad_loads is not None else zeros
-        cl = np.asarray(centre_loads, float) if centre_loads is not None else np.zeros((n, 6))
-        # the path starts from the design state at t = 0 (offset 0, loads of the first step)
-        self._load_path = (ts, np.vstack([pl[:1], pl]))
-        self._centre_path = (ts, np.vstack([cl[:1], cl]))
+        pl = np.asarray(pad_loads, float).reshape(n, 3) if pad_loads is not None \
+            else np.zeros((n, 3))
+        cl = np.asarray(centre_loads, float).reshape(n, 6) if centre_loads is not None \
+            else np.zeros((n, 6))
+        # every path starts from the design state at t = 0 (offset 0, loads of the first step)
+        pad_path = np.vstack([pl[:1], pl])
+        centre_path = np.vstack([cl[:1], cl])
         mbs = self.mbs
-        if pad_z_mm is not None:
-            self._pad_path = (ts, np.r_[0.0, np.asarray(pad_z_mm, float)])
-            mbs.SetObjectParameter(self.pad, "activeConnector", True)
-        else:
-            mbs.SetObjectParameter(self.pad, "activeConnector", False)
-        mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(
-            exu.ConfigurationType.Initial), exu.ConfigurationType.Current)
+        self._keep_alive.clear()
+        self._set_path("load", self._loads["pad_force"], ts, pad_path)
+        self._set_path("load", self._loads["centre_force"], ts, centre_path[:, :3])
+        self._set_path("load", self._loads["centre_torque"], ts, centre_path[:, 3:])
+        active = pad_z_mm is not None
+        if active:
+            z = np.r_[0.0, np.asarray(pad_z_mm, float)]
+            offset = np.zeros((n + 1, 6))
+            offset[:, 2] = z
+            self._set_path("offset", self.pad, ts, offset)
+        mbs.SetObjectParameter(self.pad, "activeConnector", active)
+        initial = exu.ConfigurationType.Initial
+        q0 = mbs.systemData.GetODE2Coordinates(initial)
+        mbs.systemData.SetODE2Coordinates(q0, exu.ConfigurationType.Current)
         mbs.Assemble()
-        grid = {round(t * n): None for t in ts[1:]}
-        states: dict[int, StepState] = {}
-
-        def record(mbs_, t):
-            k = t * n
-            i = int(round(k))
-            if abs(k - i) < 1e-9 and i >= 1:
-                states[i] = self._state()
-            return True
-
-        mbs.SetPostStepUserFunction(record)
         ss = self._settings(n)
-        try:
-            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), f"{self.suspension.source}: {what}")
-        finally:
-            mbs.SetPostStepUserFunction(0)
-        if ok is False or len(states) < len(grid):
-            last = max(states) if states else 0
-            raise SolverError(
-                f"{self.suspension.source}: {what}: static solve did not converge after step "
-                f"{last} of {n} (Newton tolerance {self.suspension.solver.newton_tolerance:g}); "
-                "check the geometry and the loads, or loosen solver.newton_tolerance")
-        return [states[i] for i in range(1, n + 1)]
-
-    def _state(self) -> StepState:
-        mbs = self.mbs
-        w = self.suspension.wheel
-        ovt = exu.OutputVariableType
-        b = self.body[w.part]
-        R = np.asarray(mbs.GetObjectOutputBody(b, ovt.RotationMatrix, [0, 0, 0])).reshape(3, 3)
-        centre = np.asarray(mbs.GetObjectOutputBody(b, ovt.Position, self.centre_local))
-        patch = np.asarray(mbs.GetObjectOutputBody(b, ovt.Position, self.patch_local))
-        if mbs.GetObjectParameter(self.pad, "activeConnector"):
-            pad = np.asarray(mbs.GetObjectOutput(self.pad, ovt.ForceLocal))
-            pad = np.array([0.0, 0.0, pad[2]])
+        label = f"{self.suspension.source}: {what}"
+        if not solve_per_step:
+            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+            rows = self._recorded(ts)
         else:
-            pad = np.zeros(3)
-        pad = pad + np.asarray(self._pad_load(mbs, mbs.systemData.GetTime(), None))
-        springs = {n: -float(mbs.GetObjectOutput(o, ovt.ForceLocal))
-                   for n, o in self._springs.items()}
+            ss.staticSolver.numberOfLoadSteps = 1
+            ss.staticSolver.loadStepDuration = 1.0 / n
+            rows, ok = [], True
+            try:
+                for k in range(n):
+                    ss.staticSolver.loadStepStart = ts[k]
+                    ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                    if ok is False:
+                        break
+                    rows.append(self._recorded(ts[k:k + 2])[-1])
+                    mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
+                                                      initial)
+            finally:
+                mbs.systemData.SetODE2Coordinates(q0, initial)
+        if ok is False or len(rows) < n:
+            raise SolverError(
+                f"{label}: static solve did not converge after step {len(rows)} of {n} "
+                f"(Newton tolerance {self.suspension.solver.newton_tolerance:g}); check the "
+                "geometry and the loads, or loosen solver.newton_tolerance")
+        pad_applied = pad_path[1:]
+        return [self._state(row, pad_applied[i], active) for i, row in enumerate(rows)]
+
+    def _recorded(self, ts: np.ndarray) -> list[dict[str, np.ndarray]]:
+        """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive
+        sub-steps skipped)."""
+        data = {k: np.asarray(self.mbs.GetSensorStoredData(v)) for k, v in self._sensors.items()}
+        t = data["rotation"][:, 0]
+        rows = []
+        for tk in ts[1:]:
+            hit = np.flatnonzero(np.abs(t - tk) < 1e-9)
+            if hit.size == 0:
+                break
+            rows.append({k: v[hit[-1], 1:] for k, v in data.items()})
+        return rows
+
+    def _state(self, row: dict[str, np.ndarray], pad_load: np.ndarray,
+               pad_active: bool) -> StepState:
+        R = row["rotation"].reshape(3, 3)
+        pad = pad_load.copy()
+        if pad_active:
+            pad[2] += row["pad"][2]
+        springs = {n: -float(row[f"spring:{n}"][0]) for n in self._springs}
         defl, load = {}, {}
         for name, e in self._bushings.items():
-            obj = e["object"]
-            d = np.asarray(mbs.GetObjectOutput(obj, ovt.DisplacementLocal))
-            r = np.asarray(mbs.GetObjectOutput(obj, ovt.Rotation)) / _DEG
-            u = np.r_[d, r]
+            u = np.r_[row[f"bushing:{name}:d"], row[f"bushing:{name}:r"] / _DEG]
             if e.get("ideal") is None:
-                u = u + self._initial_deflection[name] * (0.0 if self._penalty else 1.0)
-                f = np.r_[mbs.GetObjectOutput(obj, ovt.ForceLocal),
-                          mbs.GetObjectOutput(obj, ovt.TorqueLocal)]
+                if not self._penalty:
+                    u = u + self._initial_deflection[name]
+                f = np.r_[row[f"bushing:{name}:f"], row[f"bushing:{name}:t"]]
             else:
                 f = np.full(6, np.nan)
-            defl[name], load[name] = u, np.asarray(f, float)
-        return StepState(centre, R @ self._spin_local, R, patch, pad, springs, defl, load)
-
-    @property
-    def _spin_local(self) -> np.ndarray:
-        return self.suspension.wheel.spin_axis
+            defl[name], load[name] = u, f
+        return StepState(row["centre"].copy(), R @ self.suspension.wheel.spin_axis, R,
+                         row["patch"].copy(), pad, springs, defl, load)
 
     def part_poses(self) -> PartPoses:
         """Poses of every moving part in the current (last solved) state."""
@@ -469,6 +534,52 @@ def _const_offset(mbs, t, itemNumber, params):
     return list(params)
 
 
+def path_hinges(ts: np.ndarray, values: np.ndarray) -> list[tuple[float, float, list]]:
+    """Each column of the piecewise-linear path ``values`` (n+1, k) over ``ts`` (n+1,) as
+    (c, k0, [(t_i, dk_i)]) with v(t) = c + k0*t + sum dk_i*max(t - t_i, 0); hinges whose
+    slope change is negligible are dropped."""
+    ts = np.asarray(ts, float)
+    values = np.asarray(values, float).reshape(ts.size, -1)
+    out = []
+    for v in values.T:
+        slopes = np.diff(v) / np.diff(ts)
+        k0 = float(slopes[0])
+        tol = 1e-12 * max(1.0, float(np.max(np.abs(slopes))))
+        hinges = [(float(ts[i]), float(slopes[i] - slopes[i - 1]))
+                  for i in range(1, slopes.size) if abs(slopes[i] - slopes[i - 1]) > tol]
+        out.append((float(v[0] - k0 * ts[0]), k0, hinges))
+    return out
+
+
+def make_path_function(ts: np.ndarray, values: np.ndarray, kind: str, symbolic: bool):
+    """A rig input path as an Exudyn user function of load time t: ``kind`` "load" gives a
+    ``loadVectorUserFunction`` (3 values), "offset" a generic joint ``offsetUserFunction``
+    (6 values). Written with hinge functions so that it converts to a symbolic function."""
+    columns = path_hinges(ts, values)
+    maxf = exu.symbolic.max if symbolic else _max
+
+    def value(i, t):
+        c, k0, hinges = columns[i]
+        out = c + k0 * t
+        for ti, dk in hinges:
+            out = out + dk * maxf(t - ti, 0.0)
+        return out
+
+    if kind == "offset":
+        def offset(mbs, t, itemNumber, offsetUserFunctionParameters):
+            return [value(0, t), value(1, t), value(2, t), value(3, t), value(4, t),
+                    value(5, t)]
+        return offset
+
+    def load(mbs, t, loadVector):
+        return [value(0, t), value(1, t), value(2, t)]
+    return load
+
+
+def _max(a, b):
+    return a if a > b else b
+
+
 def make_bushing_function(laws: Sequence, initial_deflection: np.ndarray, symbolic: bool):
     """The bushing's 6 loads (N, N*mm) as an Exudyn ``springForceTorqueUserFunction``.
 
@@ -478,11 +589,7 @@ def make_bushing_function(laws: Sequence, initial_deflection: np.ndarray, symbol
     """
     hinges = [law.hinges() for law in laws]
     u0 = [float(x) for x in initial_deflection]
-    if symbolic:
-        maxf = exu.symbolic.max
-    else:
-        def maxf(a, b):
-            return a if a > b else b
+    maxf = exu.symbolic.max if symbolic else _max
 
     def evaluate(i, v):
         k0, c, hs = hinges[i]
