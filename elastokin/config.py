@@ -242,6 +242,20 @@ class RigSpec(_Strict):
     parallel_travel: TravelSpec = TravelSpec()
 
 
+class BushingReference(_Strict):
+    radial_mm: float | None = None
+    axial_mm: float | None = None
+    torsion_deg: float | None = None
+
+
+class ReferenceSpec(_Strict):
+    """Published or measured figures printed beside the model's own (not used in solving)."""
+
+    source: str = ""
+    static_bushings: dict[str, BushingReference] = {}
+    steer_amplitude_deg: dict[str, float] = {}
+
+
 class SuspensionFile(_Strict):
     """Top-level schema of a suspension config file."""
 
@@ -260,6 +274,7 @@ class SuspensionFile(_Strict):
     kinematic: bool = False
     solver: SolverSpec = SolverSpec()
     rig: RigSpec = RigSpec()
+    reference: ReferenceSpec = ReferenceSpec()
 
     @field_validator("parts")
     @classmethod
@@ -370,6 +385,7 @@ class Suspension:
     kinematic: bool
     solver: SolverSpec
     rig: RigSpec
+    reference: ReferenceSpec = field(default_factory=ReferenceSpec)
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -583,7 +599,7 @@ class _Resolver:
             wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
             joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
             springs=tuple(springs), design=d, kinematic=s.kinematic, solver=s.solver, rig=s.rig,
-            raw=raw,
+            reference=s.reference, raw=raw,
         )
         # orient the spin axis outboard, whatever sign the file used
         if spin @ res.outboard < 0:

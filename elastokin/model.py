@@ -183,14 +183,15 @@ class SuspensionModel:
                 name=f"part:{name}",
             )
         self.node = {n: mbs.GetObject(b)["nodeNumber"] for n, b in self.body.items()}
+        self._links: dict[str, int] = {}
         self._joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
                                                 j.constrained, j.offset_mm) for j in s.joints}
         for link in s.links:
             m0 = self._position_marker(link.parts[0], link.points_mm[0])
             m1 = self._position_marker(link.parts[1], link.points_mm[1])
             length = float(np.linalg.norm(link.points_mm[1] - link.points_mm[0]))
-            mbs.AddObject(ObjectConnectorDistance(markerNumbers=[m0, m1], distance=length,
-                                                  name=f"link:{link.name}"))
+            self._links[link.name] = mbs.AddObject(ObjectConnectorDistance(
+                markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
         self._bushings = {b.name: self._add_bushing(b) for b in s.bushings}
         self._springs = {}
         for sp in s.springs:
@@ -505,6 +506,71 @@ class SuspensionModel:
             defl[name], load[name] = u, f
         return StepState(row["centre"].copy(), R @ self.suspension.wheel.spin_axis, R,
                          row["patch"].copy(), pad, springs, defl, load)
+
+    def forces_on_part(self, part: str) -> dict[str, np.ndarray]:
+        """Force (N, config frame) that each connector and rig input applies to ``part`` in
+        the current (last solved) state. Joint torques are not included."""
+        mbs = self.mbs
+        ovt = exu.OutputVariableType
+        s = self.suspension
+        out: dict[str, np.ndarray] = {}
+
+        def marker_rotation(obj: int, k: int) -> np.ndarray:
+            m = mbs.GetObject(obj)["markerNumbers"][k]
+            marker = mbs.GetMarker(m)
+            body = marker["bodyNumber"]
+            local = np.asarray(marker["localHT"])[:3, :3] if "localHT" in marker else np.eye(3)
+            if body == self.ground:
+                return local
+            R = np.asarray(mbs.GetObjectOutputBody(body, ovt.RotationMatrix, [0, 0, 0]))
+            return R.reshape(3, 3) @ local
+
+        def sign(parts: tuple[str, str]) -> float:
+            return (-1.0 if parts[0] == part else 1.0) if part in parts else 0.0
+
+        def marker_position(obj: int, k: int) -> np.ndarray:
+            m = mbs.GetObject(obj)["markerNumbers"][k]
+            return np.asarray(mbs.GetMarkerOutput(m, exu.OutputVariableType.Position))
+
+        for j in s.joints:
+            obj = self._joints[j.name]
+            if sign(j.parts):
+                if mbs.GetObject(obj)["objectType"] == "JointSpherical":
+                    f1 = np.asarray(mbs.GetObjectOutput(obj, ovt.Force))  # on body 1, global
+                else:
+                    f1 = marker_rotation(obj, 0) @ np.asarray(mbs.GetObjectOutput(
+                        obj, ovt.ForceLocal))
+                out[j.name] = sign(j.parts) * f1
+        for lk in s.links:
+            if sign(lk.parts):
+                obj = self._links[lk.name]
+                d = marker_position(obj, 1) - marker_position(obj, 0)
+                # the distance constraint's multiplier is positive in compression
+                compression = float(np.asarray(mbs.GetObjectOutput(obj, ovt.Force)).ravel()[0])
+                out[lk.name] = sign(lk.parts) * compression * d / np.linalg.norm(d)
+        for b in s.bushings:
+            if sign(b.parts):
+                e = self._bushings[b.name]
+                f0 = marker_rotation(e["object"], 0) @ np.asarray(
+                    mbs.GetObjectOutput(e["object"], ovt.ForceLocal))  # +K*u: on body 0
+                total = -f0
+                if e.get("ideal") is not None:
+                    total = total + marker_rotation(e["ideal"], 0) @ np.asarray(
+                        mbs.GetObjectOutput(e["ideal"], ovt.ForceLocal))
+                out[b.name] = sign(b.parts) * total
+        for sp in s.springs:
+            if sign(sp.parts):
+                obj = self._springs[sp.name]
+                d = marker_position(obj, 1) - marker_position(obj, 0)
+                tension = float(mbs.GetObjectOutput(obj, ovt.ForceLocal))
+                out[sp.name] = -sign(sp.parts) * tension * d / np.linalg.norm(d)
+        if part == s.wheel.part:
+            pad = np.asarray(mbs.GetObjectOutput(self.pad, ovt.ForceLocal)) if \
+                mbs.GetObjectParameter(self.pad, "activeConnector") else np.zeros(3)
+            applied = np.asarray(mbs.GetLoadValues(self._loads["pad_force"]))
+            applied = applied + np.asarray(mbs.GetLoadValues(self._loads["centre_force"]))
+            out["rig"] = pad + applied
+        return out
 
     def part_poses(self) -> PartPoses:
         """Poses of every moving part in the current (last solved) state."""

@@ -1,0 +1,109 @@
+"""Result files of ``elastokin kc``: ``kc.csv`` (long format) and ``summary.json``.
+
+Every file carries its provenance: the elastokin and Exudyn versions, the SHA-256 of the config
+file and the solver settings. Units are in the column names (mm, N, N*mm, deg).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .kc import Sweep
+from .study import KCRun
+
+SIGN_CONVENTIONS = {
+    "frame": "the config frame (see its 'frame' key); wheel-centre coordinates in it",
+    "toe_deg": "toe angle, positive toe-in (ISO 8855 / SAE J670); 'steer' in the paper",
+    "camber_deg": "camber angle, positive top of the wheel leaning outboard",
+    "wheel_travel_mm": "wheel-centre vertical displacement from the design position, + bump",
+    "pad_z_mm": "prescribed vertical displacement of the contact patch (rig input), + up",
+    "contact_patch_f*_N": "force the rig applies to the tyre at the contact patch, config frame",
+    "spring_*_force_N": "coil spring force, positive in compression",
+    "bushing_*": "deflection of the part-2 sleeve relative to part 1, bushing frame (z axial, "
+                 "x main radial), incl. the preload deflection; rotations Tait-Bryan x-y-z",
+    "bump_steer_deg_per_m": "least-squares slope of toe vs wheel travel over +-50 mm",
+    "steer_amplitude_deg": "max - min toe over the measured stroke",
+}
+
+
+def provenance(run: KCRun, exudyn_version: str) -> dict:
+    s = run.suspension
+    return {
+        "elastokin_version": __version__,
+        "exudyn_version": exudyn_version,
+        "config_file": str(s.source),
+        "config_sha256": s.sha256,
+        "units": {"length": "mm", "force": "N", "torque": "N*mm", "angle": "deg"},
+    }
+
+
+def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
+    """One row per model, load case and step; a ``#`` comment header carries provenance
+    (read with ``pandas.read_csv(path, comment="#")``)."""
+    names: list[str] = []
+    for sw in sweeps:
+        names += [c for c in sw.columns if c not in names and c != "branch"]
+    with open(path, "w", newline="") as fh:
+        for key in ("elastokin_version", "exudyn_version", "config_file", "config_sha256"):
+            fh.write(f"# {key}: {header[key]}\n")
+        fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable\n")
+        writer = csv.writer(fh, lineterminator="\n")
+        writer.writerow(["model", "load_case", "step", "branch", *names])
+        for sw in sweeps:
+            for i in range(sw.steps):
+                row = [sw.model, sw.load_case, i + 1, sw.columns["branch"][i]]
+                for c in names:
+                    v = sw.columns.get(c)
+                    row.append("" if v is None else _fmt(v[i]))
+                writer.writerow(row)
+
+
+def _fmt(x) -> str:
+    if isinstance(x, (str, np.str_)):
+        return str(x)
+    x = float(x)
+    return "" if math.isnan(x) else repr(round(x, 10))
+
+
+def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
+    st = run.static
+    ref = run.suspension.reference
+    bushings = {}
+    for name, row in st.bushings.items():
+        entry = dict(row)
+        r = ref.static_bushings.get(name)
+        if r is not None:
+            entry["reference"] = r.model_dump(exclude_none=True)
+        bushings[name] = entry
+    return {
+        **provenance(run, exudyn_version),
+        "solver": {label: m.solver for label, m in run.models.items()},
+        "models": {label: m.summary() for label, m in run.models.items()},
+        "static": {
+            "wheel_load_N": st.wheel_load_N,
+            "wheel_centre_mm": st.state.wheel_centre_mm.tolist(),
+            "contact_patch_force_N": st.state.pad_force_N.tolist(),
+            "spring_force_N": st.state.spring_force_N,
+            "wheel_assembly_force_residual_N": st.wheel_assembly_force_residual_N,
+            "bushings": bushings,
+            "reference_source": ref.source,
+        },
+        "design": {
+            "spring_force_N": run.design.spring_force_N,
+            "bushing_preload_N_Nmm": {k: v.tolist() for k, v in
+                                      run.design.bushing_preload.items()},
+        },
+        "reference": {"steer_amplitude_deg": ref.steer_amplitude_deg},
+        "sign_conventions": SIGN_CONVENTIONS,
+        "files": files,
+    }
+
+
+def write_summary(path: Path, summary: dict) -> None:
+    path.write_text(json.dumps(summary, indent=2, sort_keys=False) + "\n")
