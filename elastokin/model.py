@@ -583,6 +583,43 @@ class SuspensionModel:
                 self.mbs.GetObjectOutputBody(b, ovt.Displacement, [0, 0, 0]))
         return poses
 
+    def check_assembly(self) -> None:
+        """Raise :class:`ModelError` when the ideal joints are redundant (over-constrained) or,
+        with the rig pad holding the contact patch height, leave the wheel free to move
+        (under-constrained: e.g. a missing tie rod or joint). Use on a kinematic model."""
+        src = self.suspension.source
+        dof = self.degrees_of_freedom()
+        if dof["redundantConstraints"] > 0:
+            raise ModelError(
+                f"{src}: the assembly is over-constrained: {int(dof['redundantConstraints'])} "
+                "redundant constraint equation(s) among the joints (in the kinematic model each "
+                "bushing counts as its ideal_joint); remove a joint or free one of its axes")
+        mbs = self.mbs
+        mbs.SetObjectParameter(self.pad, "activeConnector", True)
+        mbs.Assemble()
+        try:
+            solver = exu.MainSolverStatic()
+            ss = self._settings(1)
+            _exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
+            _exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss),
+                         f"{src}: assembly check")
+            jac = np.asarray(solver.GetSystemJacobian())
+        finally:
+            mbs.SetObjectParameter(self.pad, "activeConnector", False)
+            mbs.Assemble()
+        n2 = mbs.systemData.ODE2Size()
+        cq = jac[n2:, :n2]
+        _, sv, vt = np.linalg.svd(cq)
+        rank = int(np.sum(sv > 1e-9 * sv[0]))
+        null = vt[rank:].T  # free motions of the joints' skeleton (incl. idle spins)
+        wheel = self.suspension.wheel.part
+        i0 = mbs.GetNodeODE2Index(self.node[wheel])
+        if null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6:
+            raise ModelError(
+                f"{src}: the assembly is under-constrained: with bushings replaced by their "
+                f"ideal joints and the contact patch held, the wheel part '{wheel}' can still "
+                "move; a joint, link or the steering (tie rod / rack) is missing")
+
     def degrees_of_freedom(self) -> dict:
         """Exudyn's numerical DOF count with the rig pad active (0 for a well-posed rig)."""
         mbs = self.mbs
@@ -699,6 +736,7 @@ def design_state(suspension: Suspension) -> DesignState:
     and P found by the secant method.
     """
     s = suspension
+    check_assembly(s)
     d = s.design
     springs = {sp.name: sp.design_force_N() for sp in s.springs}
     preload = {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
@@ -742,9 +780,16 @@ def design_state(suspension: Suspension) -> DesignState:
     return DesignState(springs, preload)
 
 
+def check_assembly(suspension: Suspension) -> None:
+    """Check, on the kinematic model, that the joints neither over- nor under-constrain the
+    suspension (see :meth:`SuspensionModel.check_assembly`)."""
+    SuspensionModel(suspension, ModelOptions(kinematic=True)).check_assembly()
+
+
 def build_model(suspension: Suspension, options: ModelOptions = ModelOptions(),
                 design: DesignState | None = None) -> SuspensionModel:
-    """The model of ``suspension`` with the design preloads applied (computed if not given)."""
+    """The model of ``suspension`` with the design preloads applied (computed, after the
+    assembly check, when not given)."""
     design = design or design_state(suspension)
     return SuspensionModel(suspension, options, bushing_preload=design.bushing_preload,
                            spring_force_N=design.spring_force_N)

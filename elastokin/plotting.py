@@ -20,7 +20,8 @@ def _figure():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.0, 5.0), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(7.0, 5.0), layout="constrained")
+    fig.get_layout_engine().set(rect=(0.0, 0.03, 1.0, 0.97))  # room for the footer
     return plt, fig, ax
 
 
