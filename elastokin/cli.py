@@ -108,9 +108,9 @@ def _report(summary: dict, out_dir: Path) -> str:
     lines = [f"elastokin {summary['elastokin_version']} (exudyn {summary['exudyn_version']}), "
              f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}", ""]
     st = summary["static"]
+    residual = st["wheel_assembly_force_residual_N"]
     lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
-                 f"(force residual on the wheel assembly {st['wheel_assembly_force_residual_N']:.1e}"
-                 " N)")
+                 f"(force residual on the wheel assembly {residual:.1e} N)")
     lines.append(f"  {'bushing':<10}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
                  f"   reference {st['reference_source']}")
     for name, b in st["bushings"].items():
