@@ -588,12 +588,16 @@ class SuspensionModel:
         with the rig pad holding the contact patch height, leave the wheel free to move
         (under-constrained: e.g. a missing tie rod or joint). Use on a kinematic model."""
         src = self.suspension.source
-        dof = self.degrees_of_freedom()
-        if dof["redundantConstraints"] > 0:
+        redundant = int(self.degrees_of_freedom(pad=False)["redundantConstraints"])
+        if redundant > 0:
             raise ModelError(
-                f"{src}: the assembly is over-constrained: {int(dof['redundantConstraints'])} "
-                "redundant constraint equation(s) among the joints (in the kinematic model each "
-                "bushing counts as its ideal_joint); remove a joint or free one of its axes")
+                f"{src}: the assembly is over-constrained: {redundant} redundant constraint "
+                "equation(s) among the joints (in the kinematic model each bushing counts as "
+                "its ideal_joint); remove a joint or free one of its axes")
+        if self.degrees_of_freedom(pad=True)["redundantConstraints"] > 0:
+            raise ModelError(
+                f"{src}: the joints hold the wheel part '{self.suspension.wheel.part}' rigidly "
+                "(bushings counted as their ideal_joint): it cannot travel vertically")
         mbs = self.mbs
         mbs.SetObjectParameter(self.pad, "activeConnector", True)
         mbs.Assemble()
@@ -620,10 +624,11 @@ class SuspensionModel:
                 f"ideal joints and the contact patch held, the wheel part '{wheel}' can still "
                 "move; a joint, link or the steering (tie rod / rack) is missing")
 
-    def degrees_of_freedom(self) -> dict:
-        """Exudyn's numerical DOF count with the rig pad active (0 for a well-posed rig)."""
+    def degrees_of_freedom(self, pad: bool = True) -> dict:
+        """Exudyn's numerical DOF count of the constraints, with or without the rig pad
+        holding the contact patch height."""
         mbs = self.mbs
-        mbs.SetObjectParameter(self.pad, "activeConnector", True)
+        mbs.SetObjectParameter(self.pad, "activeConnector", pad)
         mbs.Assemble()
         try:
             return _exudyn_call(lambda: mbs.ComputeSystemDegreeOfFreedom(verbose=0),
