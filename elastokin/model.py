@@ -59,7 +59,7 @@ REGULARISATION = 1e-3
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
 #: stiffness used to hold a bushing rigid in its ideal directions while balancing preloads
-_PENALTY_TRANSLATION = 1e6  # N/mm
+_PENALTY_TRANSLATION = 1e7  # N/mm (design error = preload / penalty: < 1 um)
 _PENALTY_ROTATION = 1e9  # N*mm/rad
 
 
@@ -448,8 +448,12 @@ class SuspensionModel:
         mbs.Assemble()
         ss = self._settings(n)
         label = f"{self.suspension.source}: {what}"
+        detail = ""
         if not solve_per_step:
-            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+            try:
+                ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+            except SolverError as exc:
+                ok, detail = False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
             rows = self._recorded(ts)
         else:
             ss.staticSolver.numberOfLoadSteps = 1
@@ -458,7 +462,10 @@ class SuspensionModel:
             try:
                 for k in range(n):
                     ss.staticSolver.loadStepStart = ts[k]
-                    ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                    try:
+                        ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                    except SolverError as exc:
+                        ok, detail = False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
                     if ok is False:
                         break
                     rows.append(self._recorded(ts[k:k + 2])[-1])
@@ -469,8 +476,9 @@ class SuspensionModel:
         if ok is False or len(rows) < n:
             raise SolverError(
                 f"{label}: static solve did not converge after step {len(rows)} of {n} "
-                f"(Newton tolerance {self.suspension.solver.newton_tolerance:g}); check the "
-                "geometry and the loads, or loosen solver.newton_tolerance")
+                f"(Newton tolerance {self.suspension.solver.newton_tolerance:g}, at most "
+                f"{self.suspension.solver.max_newton_iterations} iterations){detail}; check the "
+                "geometry and the loads, or the solver settings")
         pad_applied = pad_path[1:]
         return [self._state(row, pad_applied[i], active) for i, row in enumerate(rows)]
 

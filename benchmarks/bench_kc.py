@@ -1,0 +1,103 @@
+"""Speed of the virtual K&C rig on the compliant pseudo-McPherson (issue 2).
+
+Times, in one run on this machine: model build, one static solve (design wheel load), and the
+parallel-travel sweep (-90..+90 mm at 1 mm after the approach from the design position), set up
+two ways:
+
+- ``tuned`` (what ``elastokin kc`` does): Rxyz nodes, bushing laws in C++ (Exudyn's stiffness
+  matrix for linear laws, symbolic user functions otherwise), rig paths as symbolic user
+  functions, modified Newton, one SolveStatic over all steps, outputs recorded by sensors;
+- ``naive`` (the straightforward set-up): Python user functions for bushings and rig paths,
+  full Newton, one SolveStatic call per point.
+
+Both give the same curve (checked here). Best of ``--repeat`` runs. Prints the figures and writes
+them to ``benchmarks/results/bench_kc.json``. Targets (issue 2): ms_per_point <= 0.3 and at
+least 5x below ms_per_point_naive.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from elastokin import __version__
+from elastokin.config import load_suspension
+from elastokin.kc import travel_path
+from elastokin.model import EXUDYN_VERSION, ModelOptions, build_model, design_state
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def best_of(fn, repeat: int) -> tuple[float, object]:
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--config", default=str(ROOT / "configs" / "pseudo_mcpherson.yaml"))
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_kc.json"))
+    args = ap.parse_args()
+
+    s = load_suspension(args.config)
+    design = design_state(s)
+    z, _ = travel_path(s.rig.parallel_travel)
+    n = len(z)
+
+    t_build, model = best_of(lambda: build_model(s, ModelOptions(), design), args.repeat)
+    t_static, _ = best_of(lambda: model.run(pad_loads=[s.up * s.design.wheel_load_N]),
+                          args.repeat)
+    t_sweep, tuned = best_of(lambda: model.run(pad_z_mm=z), args.repeat)
+
+    naive_s = dataclasses.replace(s, solver=s.solver.model_copy(
+        update={"modified_newton": False}))
+    naive_model = build_model(naive_s, ModelOptions(user_functions="python"), design)
+    t_naive, naive = best_of(lambda: naive_model.run(pad_z_mm=z, solve_per_step=True),
+                             max(1, args.repeat // 2))
+    toe = np.array([st.spin_axis for st in tuned])
+    toe_naive = np.array([st.spin_axis for st in naive])
+    max_diff = float(np.max(np.abs(toe - toe_naive)))
+
+    result = {
+        "elastokin_version": __version__,
+        "exudyn_version": EXUDYN_VERSION,
+        "config_sha256": s.sha256,
+        "machine": {"python": platform.python_version(), "processor": platform.machine()},
+        "points": n,
+        "repeat": args.repeat,
+        "build_ms": 1e3 * t_build,
+        "static_solve_ms": 1e3 * t_static,
+        "sweep_ms": 1e3 * t_sweep,
+        "ms_per_point": 1e3 * t_sweep / n,
+        "ms_per_point_naive": 1e3 * t_naive / n,
+        "speedup": t_naive / t_sweep,
+        "max_spin_axis_difference_tuned_vs_naive": max_diff,
+        "solver": model.solver_settings(),
+        "targets": {"ms_per_point_max": 0.3, "speedup_min": 5.0},
+    }
+    result["meets_targets"] = bool(result["ms_per_point"] <= 0.3 and result["speedup"] >= 5.0)
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    print(f"model build        {result['build_ms']:8.2f} ms")
+    print(f"static solve       {result['static_solve_ms']:8.2f} ms")
+    print(f"sweep ({n} points) {result['sweep_ms']:8.2f} ms  -> {result['ms_per_point']:.3f} "
+          "ms/point (target <= 0.3)")
+    print(f"naive sweep        {1e3 * t_naive:8.2f} ms  -> {result['ms_per_point_naive']:.3f} "
+          f"ms/point; speed-up {result['speedup']:.1f}x (target >= 5)")
+    print(f"tuned vs naive: max spin-axis difference {max_diff:.2e}")
+    print(f"written to {args.out}")
+
+
+if __name__ == "__main__":
+    main()
