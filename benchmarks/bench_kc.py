@@ -64,7 +64,7 @@ def main() -> None:
         update={"modified_newton": False}))
     naive_model = build_model(naive_s, ModelOptions(user_functions="python"), design)
     t_naive, naive = best_of(lambda: naive_model.run(pad_z_mm=z, solve_per_step=True),
-                             max(1, args.repeat // 2))
+                             args.repeat)
     toe = np.array([st.spin_axis for st in tuned])
     toe_naive = np.array([st.spin_axis for st in naive])
     max_diff = float(np.max(np.abs(toe - toe_naive)))
