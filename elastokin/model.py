@@ -484,7 +484,7 @@ class SuspensionModel:
 
     def _recorded(self, ts: np.ndarray) -> list[dict[str, np.ndarray]]:
         """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive
-        sub-steps skipped)."""
+        sub-steps skipped), one dict of arrays per step."""
         data = {k: np.asarray(self.mbs.GetSensorStoredData(v)) for k, v in self._sensors.items()}
         t = data["rotation"][:, 0]
         rows = []
@@ -492,8 +492,18 @@ class SuspensionModel:
             hit = np.flatnonzero(np.abs(t - tk) < 1e-9)
             if hit.size == 0:
                 break
-            rows.append({k: v[hit[-1], 1:] for k, v in data.items()})
-        return rows
+            rows.append(hit[-1])
+        idx = np.asarray(rows, int)
+        for name in self._bushings:  # bushing deflection: mm and deg in one 6-vector
+            data[f"bushing:{name}:u"] = np.concatenate(
+                [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / _DEG],
+                axis=1)
+            data[f"bushing:{name}:load"] = np.concatenate(
+                [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
+                axis=1)
+        picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
+                  for k, v in data.items()}
+        return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
 
     def _state(self, row: dict[str, np.ndarray], pad_load: np.ndarray,
                pad_active: bool) -> StepState:
@@ -504,16 +514,16 @@ class SuspensionModel:
         springs = {n: -float(row[f"spring:{n}"][0]) for n in self._springs}
         defl, load = {}, {}
         for name, e in self._bushings.items():
-            u = np.r_[row[f"bushing:{name}:d"], row[f"bushing:{name}:r"] / _DEG]
+            u = row[f"bushing:{name}:u"]
             if e.get("ideal") is None:
                 if not self._penalty:
                     u = u + self._initial_deflection[name]
-                f = np.r_[row[f"bushing:{name}:f"], row[f"bushing:{name}:t"]]
+                f = row[f"bushing:{name}:load"]
             else:
                 f = np.full(6, np.nan)
             defl[name], load[name] = u, f
-        return StepState(row["centre"].copy(), R @ self.suspension.wheel.spin_axis, R,
-                         row["patch"].copy(), pad, springs, defl, load)
+        return StepState(row["centre"], R @ self.suspension.wheel.spin_axis, R,
+                         row["patch"], pad, springs, defl, load)
 
     def forces_on_part(self, part: str) -> dict[str, np.ndarray]:
         """Force (N, config frame) that each connector and rig input applies to ``part`` in
