@@ -557,6 +557,9 @@ class _Resolver:
             else:
                 frame = self.frame_from_z(self.axis(c.axis, key + ".axis"))
             offset = c.travel_mm if isinstance(c, RackSpec) else 0.0
+            if offset and (s.design.balance_spring or s.design.balance_bushing_preloads):
+                raise self.fail(key + ".travel_mm", "must be 0 when 'design' balances the "
+                                "hardpoints (they are the equilibrium with the rack centred)")
             joints.append(Joint(name, kind, parts, pos, frame, CONSTRAINED[kind], offset))
         springs = []
         for name, sp in s.springs.items():

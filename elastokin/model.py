@@ -261,15 +261,13 @@ class SuspensionModel:
                 markerNumbers=[self._position_marker(parts[0], position),
                                self._position_marker(parts[1], position)],
                 name=f"{prefix}:{name}"))
-        m0 = self._rigid_marker(parts[0], position, frame)
+        # an offset along the joint's z (a rack held at travel_mm) moves part 0's marker:
+        # the constraint then puts part 1 there
+        frame = np.asarray(frame, float)
+        m0 = self._rigid_marker(parts[0], position + float(offset_mm) * frame[:, 2], frame)
         m1 = self._rigid_marker(parts[1], position, frame)
-        kwargs = {}
-        if offset_mm:
-            params = [0.0, 0.0, float(offset_mm), 0.0, 0.0, 0.0]
-            kwargs = dict(offsetUserFunctionParameters=params, offsetUserFunction=_const_offset)
         return self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"{prefix}:{name}",
-            **kwargs))
+            markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"{prefix}:{name}"))
 
     def _add_bushing(self, b: Bushing) -> dict:
         from .config import CONSTRAINED
@@ -654,10 +652,6 @@ class SuspensionModel:
         finally:
             mbs.SetObjectParameter(self.pad, "activeConnector", False)
             mbs.Assemble()
-
-
-def _const_offset(mbs, t, itemNumber, params):
-    return list(params)
 
 
 def path_hinges(ts: np.ndarray, values: np.ndarray) -> list[tuple[float, float, list]]:

@@ -41,3 +41,28 @@ def test_double_wishbone_cli(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert set(summary["models"]) == {"initial", "initial_kinematic"}
     assert "lca_bushing" in summary["static"]["bushings"]
+
+
+def test_rack_travel_steers_the_wheel():
+    """Rack moved 3 mm outboard: the tie rod, behind the axle, pushes the rear of the wheel
+    outboard, i.e. toe-in. The design is not balanced here (a rack off centre is not the
+    design position), so the spring carries a given preload."""
+    import copy
+
+    from elastokin.config import read_yaml, suspension_from_dict
+
+    data = read_yaml(DW)[0]
+    toe = {}
+    for travel in (0.0, 3.0):
+        d = copy.deepcopy(data)
+        d["connections"]["steering"]["travel_mm"] = travel
+        d["design"] = {"wheel_load_N": 4000}
+        d["springs"]["coil"]["preload_N"] = 5000
+        model = build_model(suspension_from_dict(d, "dw.yaml"))
+        toe[travel] = static_equilibrium(model).state.spin_axis
+    s = load_suspension(DW)
+    from elastokin.geometry import toe_deg
+
+    delta = toe_deg(toe[3.0], s.forward, s.outboard) - toe_deg(toe[0.0], s.forward, s.outboard)
+    # small-angle estimate: 3 mm over the ~130 mm tie-rod arm behind the steering axis
+    assert 0.5 < delta < 3.0
