@@ -48,3 +48,15 @@ def test_path_hinges_reproduce_a_piecewise_linear_path():
             v = c + k0 * t + sum(dk * max(t - ti, 0.0) for ti, dk in hinges)
             assert v == pytest.approx(np.interp(t, ts, values[:, j]), abs=1e-12)
     assert len(columns[0][2]) == 2  # slope changes at t = 1/3 and 2/3 only
+
+
+def test_one_solve_per_step_gives_the_same_sweep(case, case_design):
+    # the benchmark's naive set-up must solve the same problem as the tuned one
+    z = np.linspace(-2.0, -20.0, 10)
+    tuned = build_model(case, ModelOptions(), case_design).run(pad_z_mm=z)
+    naive = build_model(case, ModelOptions(user_functions="python"), case_design).run(
+        pad_z_mm=z, solve_per_step=True)
+    for a, b in zip(tuned, naive):
+        np.testing.assert_allclose(a.wheel_centre_mm, b.wheel_centre_mm, atol=1e-6)
+        np.testing.assert_allclose(a.spin_axis, b.spin_axis, atol=1e-9)
+        np.testing.assert_allclose(a.pad_force_N, b.pad_force_N, atol=1e-3)
