@@ -95,9 +95,10 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
     """Order the unordered assembled marks of a part and fit its pose [8-12].
 
     All 4 marks are tried first (the 24 permutations); when none passes, one point is wrong:
-    each set of 3 local marks is tried against the measured points [10], and the unique
-    passing triple is kept (its left-out mark reported). Two passing assignments are
-    ambiguous and raise; none raises.
+    each set of 3 local marks is tried against the measured points [10] and the passing
+    assignment kept (its left-out mark reported); when several pass, the one whose pose fit
+    is at least twice as good as any other, else an error. Two passing orderings of all four
+    marks are ambiguous and raise; nothing passing raises.
     """
     local = np.asarray(local_marks, float)
     q = np.asarray(measured, float)
@@ -117,11 +118,19 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
             raise MeasurementError(
                 f"part '{part}': the assembled marks match no ordering of its marks within "
                 f"eps = {eps_mm:g} mm, even with one point dropped")
-        if len(passing) > 1:
-            raise MeasurementError(
-                f"part '{part}': with one point dropped, {len(passing)} assignments of the "
-                f"marks pass the eps = {eps_mm:g} mm test: cannot tell which point is wrong")
-        marks, perm = passing[0]
+        # a wrong point may by chance complete a triangle within eps (2 distances only); the
+        # true triple then still fits far better: keep it when its residual is less than half
+        # the next one's, otherwise the data cannot tell which point is wrong
+        scored = sorted(passing, key=lambda mh: fit_pose(local[list(mh[0])],
+                                                         q[list(mh[1])])[2])
+        if len(scored) > 1:
+            best, second = (fit_pose(local[list(m)], q[list(h)])[2] for m, h in scored[:2])
+            if not best < 0.5 * second:
+                raise MeasurementError(
+                    f"part '{part}': with one point dropped, {len(passing)} assignments of "
+                    f"the marks pass the eps = {eps_mm:g} mm test and fit equally well: "
+                    "cannot tell which point is wrong")
+        marks, perm = scored[0]
         hits = [perm]
         dropped = next(i for i in range(4) if i not in marks)
     if len(hits) > 1:

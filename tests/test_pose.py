@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -65,7 +65,8 @@ def test_pose_recovered_in_any_order_with_noise(seed, order, noise):
 
 
 @given(st.integers(0, 10_000), st.integers(0, 3), st.permutations(range(4)))
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=300, deadline=None)
+@example(263, 0, [0, 1, 2, 3])  # the outlier completes a triangle within eps by chance
 def test_one_gross_outlier_is_dropped(seed, bad, order):
     R, t, rng = rigid(seed)
     measured = MARKS @ R.T + t + rng.normal(0, 0.03, (4, 3))
