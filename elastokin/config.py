@@ -256,6 +256,83 @@ class ReferenceSpec(_Strict):
     steer_amplitude_deg: dict[str, float] = {}
 
 
+class ClearanceSpec(_Strict):
+    """Diameters of a bolted joint (mm) giving the clearance bound dL_max [1]: the hole in the
+    part (phi_out), the bolt (phi_bolt) and the inner sleeve's or flange's bore (phi_in)."""
+
+    hole_mm: float = Field(gt=0)
+    bolt_mm: float = Field(gt=0)
+    inner_bore_mm: float = Field(gt=0)
+
+    @model_validator(mode="after")
+    def _bolt_fits(self) -> ClearanceSpec:
+        if self.bolt_mm > min(self.hole_mm, self.inner_bore_mm):
+            raise ValueError(f"a {self.bolt_mm:g} mm bolt does not fit a {self.hole_mm:g} mm "
+                             f"hole and a {self.inner_bore_mm:g} mm bore")
+        return self
+
+    @property
+    def max_shift_mm(self) -> float:
+        """dL_max = phi_out/2 - phi_bolt + phi_in/2 [1]."""
+        return self.hole_mm / 2.0 - self.bolt_mm + self.inner_bore_mm / 2.0
+
+
+class JointMeasurementSpec(_Strict):
+    """How a joint is measured. Bushings: ``inner`` names the part holding the inner sleeve
+    (bolted: only its housing centre and axis are measured) - the other part holds the outer
+    sleeve, whose centre and axes are measured exactly. Other joints: ``bolted`` names the
+    part whose attachment has assembly clearance (its centre is a housing centre)."""
+
+    inner: str | None = None
+    bolted: str | None = None
+    clearance: ClearanceSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_side(self) -> JointMeasurementSpec:
+        if self.inner is not None and self.bolted is not None:
+            raise ValueError("give 'inner' (bushings) or 'bolted' (other joints), not both")
+        return self
+
+
+class PartMeasurementSpec(_Strict):
+    """One part measured alone, in its own frame (the ground part: in the config frame).
+
+    ``labels`` maps a hardpoint name to the label used in the file when they differ (IGES
+    labels have at most 8 characters)."""
+
+    file: str
+    marks: tuple[str, str, str, str] = ("M1", "M2", "M3", "M4")
+    labels: dict[str, str] = {}
+
+
+class AssemblyMeasurementSpec(_Strict):
+    """The marks measured on the assembled, loaded suspension; ``marks`` maps each part to a
+    label pattern (``fnmatch`` syntax, e.g. ``"FA*"``) selecting its marks in the file."""
+
+    file: str
+    marks: dict[str, str]
+
+
+class SyntheticSpec(_Strict):
+    """Parameters of the virtual CMM (``elastokin synthesize``)."""
+
+    seed: int = 0
+    noise_mm: float = Field(default=0.1, ge=0)  # 95 % of points within this of the truth
+    gross_error_mm: tuple[float, float] = (5.0, 15.0)  # one bad assembled mark, length range
+
+
+class MeasurementsSpec(_Strict):
+    """CMM data for geometric identification (see docs/measurements.md)."""
+
+    folder: str = "."  # relative to the config file
+    eps_mm: float = Field(default=0.4, gt=0)
+    parts: dict[str, PartMeasurementSpec]
+    assembly: AssemblyMeasurementSpec
+    joints: dict[str, JointMeasurementSpec] = {}
+    truth: str | None = None  # synthetic data only: the as-built truth written by synthesize
+    synthetic: SyntheticSpec | None = None
+
+
 class SuspensionFile(_Strict):
     """Top-level schema of a suspension config file."""
 
@@ -275,6 +352,7 @@ class SuspensionFile(_Strict):
     solver: SolverSpec = SolverSpec()
     rig: RigSpec = RigSpec()
     reference: ReferenceSpec = ReferenceSpec()
+    measurements: MeasurementsSpec | None = None
 
     @field_validator("parts")
     @classmethod
@@ -300,6 +378,8 @@ class Joint:
     frame: np.ndarray
     constrained: tuple[int, int, int, int, int, int]
     offset_mm: float = 0.0
+    #: as-built only (virtual CMM): each part's attachment relative to ``position_mm``
+    part_shift_mm: tuple[np.ndarray, np.ndarray] | None = None
 
 
 @dataclass(frozen=True)
@@ -387,6 +467,7 @@ class Suspension:
     rig: RigSpec
     reference: ReferenceSpec = field(default_factory=ReferenceSpec)
     raw: dict = field(repr=False, default_factory=dict)
+    measurements: MeasurementsSpec | None = None
 
     @property
     def forward(self) -> np.ndarray:
@@ -602,7 +683,7 @@ class _Resolver:
             wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
             joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
             springs=tuple(springs), design=d, kinematic=s.kinematic, solver=s.solver, rig=s.rig,
-            reference=s.reference, raw=raw,
+            reference=s.reference, raw=raw, measurements=s.measurements,
         )
         # orient the spin axis outboard, whatever sign the file used
         if spin @ res.outboard < 0:

@@ -58,9 +58,8 @@ _DEG = np.pi / 180.0
 REGULARISATION = 1e-3
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
-#: stiffness used to hold a bushing rigid in its ideal directions while balancing preloads
-_PENALTY_TRANSLATION = 1e7  # N/mm (design error = preload / penalty: < 1 um)
-_PENALTY_ROTATION = 1e9  # N*mm/rad
+#: stiffness holding a bushing's ideal-joint rotations while balancing the design preloads
+_BALANCING_ROTATION = 1e9  # N*mm/rad
 
 
 @dataclass(frozen=True)
@@ -104,10 +103,28 @@ class StepState:
 @dataclass
 class PartPoses:
     """Rigid-body poses of every moving part at one step: rotation (3, 3) and the displacement
-    (mm) of its reference point."""
+    (mm) of its reference point ``reference_mm`` (config frame, design position)."""
 
     rotation: dict[str, np.ndarray] = field(default_factory=dict)
     displacement_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def moved(self, part: str, points_mm) -> np.ndarray:
+        """Where points of ``part`` given at the design position (mm, (..., 3)) are now; the
+        ground part and unknown parts do not move."""
+        x = np.asarray(points_mm, float)
+        if part not in self.rotation:
+            return x.copy()
+        ref = self.reference_mm[part]
+        return (x - ref) @ self.rotation[part].T + ref + self.displacement_mm[part]
+
+    def transform(self, part: str) -> np.ndarray:
+        """4x4 homogeneous transform from the design position to the current one."""
+        T = np.eye(4)
+        if part in self.rotation:
+            T[:3, :3] = self.rotation[part]
+            T[:3, 3] = self.moved(part, np.zeros(3))
+        return T
 
 
 def _exudyn_call(fn: Callable, what: str):
@@ -133,11 +150,10 @@ class SuspensionModel:
 
     def __init__(self, suspension: Suspension, options: ModelOptions = ModelOptions(),
                  bushing_preload: dict[str, np.ndarray] | None = None,
-                 spring_force_N: dict[str, float] | None = None,
-                 _penalty_bushings: bool = False):
+                 spring_force_N: dict[str, float] | None = None, _balancing: bool = False):
         self.suspension = suspension
         self.options = options
-        self._penalty = _penalty_bushings
+        self._balancing = _balancing
         # bushing loads at the design position (N, N*mm) -> initial deflections of the
         # (scaled) laws, so that a stiffer bushing carries the same preload
         self.bushing_preload = {
@@ -185,7 +201,8 @@ class SuspensionModel:
         self.node = {n: mbs.GetObject(b)["nodeNumber"] for n, b in self.body.items()}
         self._links: dict[str, int] = {}
         self._joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
-                                                j.constrained, j.offset_mm) for j in s.joints}
+                                                j.constrained, j.offset_mm, j.part_shift_mm)
+                        for j in s.joints}
         for link in s.links:
             m0 = self._position_marker(link.parts[0], link.points_mm[0])
             m1 = self._position_marker(link.parts[1], link.points_mm[1])
@@ -254,18 +271,23 @@ class SuspensionModel:
                                                      localPosition=local))
 
     def _add_joint(self, name, parts, position, frame, constrained, offset_mm=0.0,
-                   prefix="joint") -> int:
+                   part_shift_mm=None, prefix="joint") -> int:
+        # part_shift_mm: where each part's attachment sits relative to ``position`` (an
+        # as-built joint with assembly clearance); the static solve closes the gap
+        shift0, shift1 = (np.zeros(3), np.zeros(3)) if part_shift_mm is None else \
+            (np.asarray(part_shift_mm[0], float), np.asarray(part_shift_mm[1], float))
         if list(constrained) == [1, 1, 1, 0, 0, 0] and not offset_mm:
             # 3 algebraic equations instead of the generic joint's 6
             return self.mbs.AddObject(ObjectJointSpherical(
-                markerNumbers=[self._position_marker(parts[0], position),
-                               self._position_marker(parts[1], position)],
+                markerNumbers=[self._position_marker(parts[0], position + shift0),
+                               self._position_marker(parts[1], position + shift1)],
                 name=f"{prefix}:{name}"))
         # an offset along the joint's z (a rack held at travel_mm) moves part 0's marker:
         # the constraint then puts part 1 there
         frame = np.asarray(frame, float)
-        m0 = self._rigid_marker(parts[0], position + float(offset_mm) * frame[:, 2], frame)
-        m1 = self._rigid_marker(parts[1], position, frame)
+        m0 = self._rigid_marker(parts[0], position + float(offset_mm) * frame[:, 2] + shift0,
+                                frame)
+        m1 = self._rigid_marker(parts[1], position + shift1, frame)
         return self.mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"{prefix}:{name}"))
 
@@ -279,18 +301,19 @@ class SuspensionModel:
         rates_rad = rates.copy()
         rates_rad[3:] /= _DEG  # N*mm/deg -> N*mm/rad
         entry = {"markers": (m0, m1), "ideal": None}
-        if self.options.kinematic or self._penalty:
+        if self.options.kinematic or self._balancing:
             constrained = np.array(CONSTRAINED[b.ideal_joint])
-            if self._penalty:
-                k = np.where(constrained[:3], _PENALTY_TRANSLATION, 0.0)
-                kr = np.where(constrained[3:], _PENALTY_ROTATION, REGULARISATION * rates_rad[3:])
-                stiffness = np.diag(np.r_[k, kr])
-            else:
-                entry["ideal"] = mbs.AddObject(ObjectJointGeneric(
-                    markerNumbers=[m0, m1], constrainedAxes=constrained.tolist(),
-                    name=f"ideal:{b.name}"))
-                kr = np.where(constrained[3:], 0.0, REGULARISATION * rates_rad[3:])
-                stiffness = np.diag(np.r_[0.0, 0.0, 0.0, kr])
+            kr = np.where(constrained[3:], 0.0, REGULARISATION * rates_rad[3:])
+            if self._balancing:
+                # translations held exactly (constraint reactions are the bushing forces);
+                # rotations held by stiff springs, whose torques Exudyn reports in the
+                # bushing frame
+                kr = np.where(constrained[3:], _BALANCING_ROTATION, kr)
+                constrained[3:] = 0
+            entry["ideal"] = mbs.AddObject(ObjectJointGeneric(
+                markerNumbers=[m0, m1], constrainedAxes=constrained.tolist(),
+                name=f"ideal:{b.name}"))
+            stiffness = np.diag(np.r_[0.0, 0.0, 0.0, kr])
             entry["object"] = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
                 markerNumbers=[m0, m1], stiffness=stiffness, damping=np.zeros((6, 6)),
                 name=f"bushing:{b.name}"))
@@ -514,14 +537,29 @@ class SuspensionModel:
         for name, e in self._bushings.items():
             u = row[f"bushing:{name}:u"]
             if e.get("ideal") is None:
-                if not self._penalty:
-                    u = u + self._initial_deflection[name]
+                u = u + self._initial_deflection[name]
                 f = row[f"bushing:{name}:load"]
             else:
                 f = np.full(6, np.nan)
             defl[name], load[name] = u, f
         return StepState(row["centre"], R @ self.suspension.wheel.spin_axis, R,
                          row["patch"], pad, springs, defl, load)
+
+    def balancing_bushing_loads(self) -> dict[str, np.ndarray]:
+        """Balancing model: the load each bushing carries in the current state (Fx Fy Fz N,
+        Tx Ty Tz N*mm, bushing frame, +K*u convention): the reaction force of its translational
+        constraint and the torque of its stiff rotational springs."""
+        if not self._balancing:
+            raise ModelError("balancing_bushing_loads: not a balancing model")
+        ovt = exu.OutputVariableType
+        out = {}
+        for name, e in self._bushings.items():
+            spring = np.r_[self.mbs.GetObjectOutput(e["object"], ovt.ForceLocal),
+                           self.mbs.GetObjectOutput(e["object"], ovt.TorqueLocal)]
+            # the constraint's reaction on parts[0] is opposite to a spring's +K*u
+            spring[:3] -= np.asarray(self.mbs.GetObjectOutput(e["ideal"], ovt.ForceLocal))
+            out[name] = spring
+        return out
 
     def forces_on_part(self, part: str) -> dict[str, np.ndarray]:
         """Force (N, config frame) that each connector and rig input applies to ``part`` in
@@ -597,6 +635,7 @@ class SuspensionModel:
                 self.mbs.GetObjectOutputBody(b, ovt.RotationMatrix, [0, 0, 0])).reshape(3, 3)
             poses.displacement_mm[name] = np.asarray(
                 self.mbs.GetObjectOutputBody(b, ovt.Displacement, [0, 0, 0]))
+            poses.reference_mm[name] = self.ref[name].copy()
         return poses
 
     def check_assembly(self) -> None:
@@ -746,11 +785,11 @@ class DesignState:
 def design_state(suspension: Suspension) -> DesignState:
     """Spring and bushing preloads for the design position (see ``design`` in the config).
 
-    With ``balance_bushing_preloads`` every bushing is held rigid in its ideal joint's
-    directions (stiff penalty springs), so the design position is a structure whose loads are
-    linear in the balanced spring's force P: two solves give the P at which the rig pad carries
-    the wheel load, a third the bushing loads at that P. Otherwise the compliant model is used
-    and P found by the secant method.
+    With ``balance_bushing_preloads`` every bushing is held in its ideal joint's directions
+    (translations by exact constraints, rotations by stiff springs), so the design position is
+    a structure whose loads are linear in the balanced spring's force P: two solves give the P
+    at which the rig pad carries the wheel load, a third the loads each bushing transmits at
+    that P, which become the bushing preloads. Otherwise the compliant model is used and P found by the secant method.
     """
     s = suspension
     check_assembly(s)
@@ -760,15 +799,17 @@ def design_state(suspension: Suspension) -> DesignState:
                for b in s.bushings}
     if d.balance_spring is None and not d.balance_bushing_preloads:
         return DesignState(springs, preload)
-    penalty = d.balance_bushing_preloads
+    ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
 
     def solve(p: float):
         forces = dict(springs)
         if d.balance_spring is not None:
             forces[d.balance_spring] = p
         model = SuspensionModel(s, ModelOptions(), bushing_preload=preload,
-                                spring_force_N=forces, _penalty_bushings=penalty)
+                                spring_force_N=forces, _balancing=ideal)
         state = model.run(pad_z_mm=[0.0], what="balancing the design position")[0]
+        if ideal:
+            state.bushing_load = model.balancing_bushing_loads()
         return state.pad_force_N[2], state
 
     if d.balance_spring is None:
@@ -778,7 +819,7 @@ def design_state(suspension: Suspension) -> DesignState:
     p0, p1 = 0.0, w
     r0, _ = solve(p0)
     r1, state = solve(p1)
-    for _ in range(1 if penalty else 20):
+    for _ in range(1 if ideal else 20):
         if abs(r1 - r0) < 1e-9:
             raise ModelError(f"{s.source}: design.balance_spring: the force of spring "
                              f"'{d.balance_spring}' does not reach the wheel: cannot balance")
@@ -792,7 +833,7 @@ def design_state(suspension: Suspension) -> DesignState:
         raise SolverError(f"{s.source}: design.balance_spring: no spring preload found that "
                           f"carries the {w:g} N wheel load (last pad load {r1:.6g} N)")
     springs[d.balance_spring] = float(p1)
-    if penalty:
+    if ideal:
         preload = {n: v.copy() for n, v in state.bushing_load.items()}
     return DesignState(springs, preload)
 

@@ -44,6 +44,22 @@ def fit_pose(local_pts, global_pts) -> tuple[np.ndarray, np.ndarray, float]:
     return R, t, float(np.sqrt(np.mean(np.sum(residual**2, axis=1))))
 
 
+def pose_error_gain(marks, points, step_mm: float = 1e-3) -> float:
+    """How much the pose fit [11-12] amplifies measurement noise on ``marks`` at ``points``:
+    the largest 3-D RMS position error of a point per unit 3-D RMS (isotropic) noise on the
+    marks, from the linearised fit (finite differences). About 1/sqrt(n) at the centroid of n
+    marks; large when the points lie far from a thin or small mark layout."""
+    m = np.asarray(marks, float)
+    x = np.atleast_2d(np.asarray(points, float))
+    jac = np.empty((x.shape[0], 3, m.size))
+    for k in range(m.size):
+        q = m.copy().ravel()
+        q[k] += step_mm
+        R, t, _ = fit_pose(m, q.reshape(m.shape))
+        jac[:, :, k] = (x @ R.T + t - x) / step_mm
+    return float(np.max(np.sqrt(np.sum(jac**2, axis=(1, 2)) / 3.0)))
+
+
 def _distances(x: np.ndarray) -> np.ndarray:
     return np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
 
