@@ -23,16 +23,17 @@ class _Output:
     """Write results into a temporary folder beside ``out`` and move it into place only when
     everything succeeded: a failed run leaves no partial results."""
 
-    def __init__(self, out: Path):
+    def __init__(self, out: Path, marker: str = "summary.json"):
         self.out = out
+        self.marker = marker  # a file that says the folder holds elastokin results
 
     def __enter__(self) -> Path:
         out = self.out
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"--out {out}: exists and is not a folder")
-        if out.is_dir() and any(out.iterdir()) and not (out / "summary.json").exists():
+        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
             raise ElastokinError(f"--out {out}: folder is not empty and holds no elastokin "
-                                 "results (summary.json); choose another folder")
+                                 f"results ({self.marker}); choose another folder")
         out.parent.mkdir(parents=True, exist_ok=True)
         self.tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
         self.tmp.chmod(0o755)
@@ -75,13 +76,20 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
     from .config import load_suspension
     from .model import EXUDYN_VERSION
     from .plotting import steer_vs_travel
-    from .results import provenance, summary_dict, write_kc_csv, write_summary
-    from .study import model_variants, run_vertical_kc
+    from .results import (
+        provenance,
+        summary_dict,
+        write_identification,
+        write_kc_csv,
+        write_summary,
+    )
+    from .study import model_labels, run_vertical_kc
 
     out_dir = out_dir or Path("results") / config_path.stem
     try:
         suspension = load_suspension(config_path)
-        stages = 3 + 2 * len(model_variants(suspension))
+        labels = model_labels(suspension)
+        stages = 3 + 2 * len(labels) + (suspension.measurements is not None)
         with tqdm(total=stages, disable=quiet, file=sys.stderr, leave=False,
                   bar_format="{desc:<45} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
             def progress(msg: str) -> None:
@@ -94,6 +102,9 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
                 sweeps = [sw for m in run.models.values() for sw in m.sweeps]
                 write_kc_csv(tmp / "kc.csv", sweeps, prov)
                 files = ["kc.csv", "summary.json"]
+                if run.identification is not None:
+                    write_identification(tmp, run.identification, prov)
+                    files += ["identification.json", "identification.txt"]
                 files += [p.name for p in steer_vs_travel(
                     [sw for sw in sweeps if sw.load_case == "parallel_travel"], tmp, prov)]
                 summary = summary_dict(run, EXUDYN_VERSION, files)
@@ -130,6 +141,83 @@ def _report(summary: dict, out_dir: Path) -> str:
     lines.append("")
     lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
     return "\n".join(lines)
+
+
+@main.command()
+@click.option("--config", "config_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Suspension config with a 'measurements' section (docs/measurements.md).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=None, show_default="results/<config name>-identified",
+              help="Folder for identified.yaml, initial.yaml, identification.json and "
+                   "identification.txt; replaced as a whole when the run succeeds.")
+@click.option("--quiet", is_flag=True, help="No progress, no table.")
+def identify(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
+    """Identify the joint locations from CMM data (the reference paper's method).
+
+    Reads the parts measured alone and the assembled marks, finds every part's pose, and
+    writes the identified model as a config that `elastokin kc` loads (identified.yaml), the
+    model built from the parts alone (initial.yaml), identification.json and a readable
+    identification.txt.
+    """
+    from .config import load_suspension
+    from .identify import identify as run_identification
+    from .identify import write_config
+    from .model import EXUDYN_VERSION
+    from .results import config_provenance, identification_table, write_identification
+
+    out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
+    try:
+        suspension = load_suspension(config_path)
+        say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
+        ident = run_identification(suspension, progress=say)
+        prov = config_provenance(suspension, EXUDYN_VERSION)
+        with _Output(out_dir, marker="identification.json") as tmp:
+            header = (f"elastokin {prov['elastokin_version']} (exudyn "
+                      f"{prov['exudyn_version']}): {{what}} of {config_path} (sha256 "
+                      f"{prov['config_sha256'][:12]}).\nUnits: lengths mm, forces N, torques "
+                      "N*mm, angles deg; config frame.")
+            write_config(tmp / "identified.yaml", ident.identified_config,
+                         header.format(what="identified model (joints from the assembled "
+                                       "measurement, bushing deflections at equilibrium)"))
+            write_config(tmp / "initial.yaml", ident.initial_config,
+                         header.format(what="initial model (joints from the parts measured "
+                                       "alone, undeflected bushings)"))
+            write_identification(tmp, ident, prov)
+    except ElastokinError as exc:
+        _fail(str(exc))
+    if not quiet:
+        click.echo(identification_table(ident))
+        click.echo(f"Results in {out_dir}/: identified.yaml, initial.yaml, "
+                   "identification.json, identification.txt")
+
+
+@main.command()
+@click.option("--config", "config_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Nominal suspension config with a 'measurements' section.")
+@click.option("--seed", type=int, default=None,
+              help="Random seed (default: measurements.synthetic.seed of the config).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=None, show_default="the config's measurements.folder",
+              help="Folder for the files (the config's measurements.folder by default).")
+def synthesize(config_path: Path, seed: int | None, out_dir: Path | None) -> None:
+    """Virtual CMM: write synthetic measurement files for a nominal config.
+
+    Makes an as-built suspension (bolted joints shifted within their clearance), solves its
+    static equilibrium under the design wheel load, and writes what a CMM would give: every
+    part measured alone and the assembled marks (IGES and CSV; noisy, scrambled, one wrong
+    mark), plus truth.yaml. The same config and seed give the same bytes.
+    """
+    from .config import load_suspension
+    from .synthesize import synthesize as run_synthesis
+
+    try:
+        files = run_synthesis(load_suspension(config_path), seed, out_dir)
+    except ElastokinError as exc:
+        _fail(str(exc))
+    click.echo(f"wrote {len(files)} files in {files[0].parent}/: "
+               + ", ".join(f.name for f in files))
 
 
 if __name__ == "__main__":  # pragma: no cover

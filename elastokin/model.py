@@ -789,7 +789,8 @@ def design_state(suspension: Suspension) -> DesignState:
     (translations by exact constraints, rotations by stiff springs), so the design position is
     a structure whose loads are linear in the balanced spring's force P: two solves give the P
     at which the rig pad carries the wheel load, a third the loads each bushing transmits at
-    that P, which become the bushing preloads. Otherwise the compliant model is used and P found by the secant method.
+    that P, which become the bushing preloads. Otherwise the compliant model is used and P
+    found by the secant method.
     """
     s = suspension
     check_assembly(s)

@@ -33,7 +33,11 @@ SIGN_CONVENTIONS = {
 
 
 def provenance(run: KCRun, exudyn_version: str) -> dict:
-    s = run.suspension
+    return config_provenance(run.suspension, exudyn_version)
+
+
+def config_provenance(s, exudyn_version: str) -> dict:
+    """Versions, config file and its SHA-256, units: carried by every result file."""
     return {
         "elastokin_version": __version__,
         "exudyn_version": exudyn_version,
@@ -107,3 +111,70 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
 
 def write_summary(path: Path, summary: dict) -> None:
     path.write_text(json.dumps(summary, indent=2, sort_keys=False) + "\n")
+
+
+def identification_dict(ident, prov: dict) -> dict:
+    """``identification.json``: the contract keys (parts, joints, verification) plus details
+    and provenance. Vehicle (config) frame, mm, deg."""
+    return {**{k: prov[k] for k in ("elastokin_version", "exudyn_version", "config_file",
+                                    "config_sha256", "units")},
+            "eps_mm": ident.suspension.measurements.eps_mm,
+            **ident.to_json(),
+            "conventions": {
+                "shift_mm": "identified - initial joint location, config frame, loaded state",
+                "initial_mm": "joint centre from the parts measured alone (housing centre of "
+                              "a bolted side)",
+                "identified_mm": "joint centre from the assembled measurement; for a bushing "
+                                 "the inner-sleeve centre B* [26]",
+                "deflection_mm_deg": "bushing deflection at static equilibrium, part-2 sleeve "
+                                     "relative to part 1, bushing frame (x y z mm, rx ry rz "
+                                     "deg)",
+                "verification_max_deviation_mm": "largest distance of a joint from its "
+                                                 "measured location at the identified model's "
+                                                 "static equilibrium under the wheel load",
+            }}
+
+
+def identification_table(ident) -> str:
+    """A readable summary of an identification (plain text)."""
+    d = ident.to_json()
+    out = [f"Geometric identification of {ident.suspension.name}",
+           f"  config {ident.suspension.source}; units mm, deg; config frame", "",
+           "Part poses from the assembled marks [8-12]",
+           f"  {'part':<12}{'residual RMS mm':>16}  dropped mark"]
+    marks = ident.suspension.measurements.parts
+    for p, v in d["parts"].items():
+        dropped = "-" if v["dropped_mark"] is None else marks[p].marks[v["dropped_mark"]]
+        out.append(f"  {p:<12}{v['residual_rms_mm']:>16.4f}  {dropped}")
+    out += ["", "Joints (loaded state): identified - initial shift, and error against the "
+            "synthetic truth when known",
+            f"  {'joint':<12}{'kind':<11}{'shift x':>9}{'y':>8}{'z':>8}{'|shift|':>9}"
+            f"{'dL_max':>8}{'error':>8}"]
+    for n, j in d["joints"].items():
+        sx, sy, sz = j["shift_mm"]
+        dl = "" if j["max_shift_mm"] is None else f"{j['max_shift_mm']:.2f}"
+        err = "" if j["error_vs_truth_mm"] is None else f"{j['error_vs_truth_mm']:.3f}"
+        out.append(f"  {n:<12}{j['kind']:<11}{sx:>9.3f}{sy:>8.3f}{sz:>8.3f}"
+                   f"{math.hypot(sx, sy, sz):>9.3f}{dl:>8}{err:>8}")
+    out += ["", "Bushing deflections at static equilibrium [22-23] (part 2 rel. part 1, "
+            "bushing frame)",
+            f"  {'bushing':<10}{'radial mm':>10}{'axial mm':>10}{'torsion deg':>12}"
+            f"   B* z-x-z Euler deg [20-21]"]
+    for n, j in d["joints"].items():
+        if j["deflection_mm_deg"] is not None:
+            u = j["deflection_mm_deg"]
+            e = ", ".join(f"{a:.2f}" for a in j["euler_zxz_deg"])
+            out.append(f"  {n:<10}{math.hypot(u[0], u[1]):>10.3f}{u[2]:>10.3f}{u[5]:>12.4f}"
+                       f"   ({e})")
+    out += ["", f"Verification [7]: at the identified model's static equilibrium the joints "
+            f"are within {d['verification_max_deviation_mm']:.2e} mm of their measured "
+            "locations"]
+    if d["warnings"]:
+        out += ["", "Warnings:"] + [f"  - {w}" for w in d["warnings"]]
+    return "\n".join(out) + "\n"
+
+
+def write_identification(folder: Path, ident, prov: dict) -> None:
+    (folder / "identification.json").write_text(
+        json.dumps(identification_dict(ident, prov), indent=2) + "\n")
+    (folder / "identification.txt").write_text(identification_table(ident))

@@ -6,43 +6,71 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .config import Suspension
+from .config import Suspension, suspension_from_dict
+from .identify import Identification, identify
 from .kc import ModelResult, StaticResult, parallel_travel, static_equilibrium
 from .model import DesignState, ModelOptions, build_model, design_state
 
 
 @dataclass
 class KCRun:
+    """A K&C run: ``suspension`` is the config's; ``design`` and ``static`` belong to the model
+    whose static equilibrium is reported (the identified one when there are measurements)."""
+
     suspension: Suspension
     design: DesignState
     static: StaticResult
     models: dict[str, ModelResult]
+    identification: Identification | None = None
 
 
-def model_variants(suspension: Suspension) -> dict[str, ModelOptions]:
-    """The models of a vertical K&C run: ``initial`` (from the config's geometry; kinematic
-    when the config says ``kinematic: true``) and, for comparison, ``initial_kinematic``
-    (every bushing replaced by its ideal joint) when the initial model is compliant."""
-    variants = {"initial": ModelOptions(kinematic=suspension.kinematic)}
+def model_labels(suspension: Suspension) -> list[str]:
+    """The models of a K&C run.
+
+    With CMM ``measurements``: ``initial`` (joints from the parts measured alone) and
+    ``identified`` (see :mod:`elastokin.identify`). Otherwise ``initial`` (the config's
+    geometry; kinematic when the config says ``kinematic: true``) and, when it is compliant,
+    ``initial_kinematic`` (every bushing replaced by its ideal joint) for comparison.
+    """
+    if suspension.measurements is not None:
+        return ["initial", "identified"]
     if not suspension.kinematic and suspension.bushings:
-        variants["initial_kinematic"] = ModelOptions(kinematic=True)
-    return variants
+        return ["initial", "initial_kinematic"]
+    return ["initial"]
 
 
 def run_vertical_kc(suspension: Suspension,
                     progress: Callable[[str], None] = lambda msg: None) -> KCRun:
-    """Design preloads, the static equilibrium and the parallel-travel sweep of every model."""
-    progress("balancing the design position")
-    design = design_state(suspension)
-    static = None
+    """Identification (with measurements), design preloads, the static equilibrium and the
+    parallel-travel sweep of every model."""
+    s = suspension
+    ident = None
+    if s.measurements is not None:
+        progress("identifying the geometry from CMM data")
+        ident = identify(s)
+        variants = {
+            label: (suspension_from_dict(cfg, f"{s.source} ({label})", s.sha256),
+                    ModelOptions(kinematic=s.kinematic))
+            for label, cfg in (("initial", ident.initial_config),
+                               ("identified", ident.identified_config))}
+        static_label = "identified"
+    else:
+        variants = {"initial": (s, ModelOptions(kinematic=s.kinematic))}
+        if "initial_kinematic" in model_labels(s):
+            variants["initial_kinematic"] = (s, ModelOptions(kinematic=True))
+        static_label = "initial"
+    designs: dict[int, DesignState] = {}
+    static = design = None
     models = {}
-    for label, options in model_variants(suspension).items():
+    for label, (susp, options) in variants.items():
         progress(f"model '{label}': building")
-        model = build_model(suspension, options, design)
-        if label == "initial":
+        if id(susp) not in designs:
+            designs[id(susp)] = design_state(susp)
+        model = build_model(susp, options, designs[id(susp)])
+        if label == static_label:
             progress("static equilibrium")
-            static = static_equilibrium(model)
+            static, design = static_equilibrium(model), designs[id(susp)]
         progress(f"model '{label}': parallel travel")
         sweep = parallel_travel(model, label)
         models[label] = ModelResult(label, options.kinematic, [sweep], model.solver_settings())
-    return KCRun(suspension, design, static, models)
+    return KCRun(s, design, static, models, ident)

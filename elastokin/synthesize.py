@@ -39,7 +39,7 @@ import numpy as np
 import yaml
 from scipy.spatial.transform import Rotation
 
-from .config import BushingSpec, LinkSpec, SuspensionFile, Suspension, SyntheticSpec
+from .config import BushingSpec, LinkSpec, Suspension, SuspensionFile, SyntheticSpec
 from .errors import ConfigError
 from .identify import _check_spec, _name
 from .measurements import write_points
