@@ -75,7 +75,7 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
 
     from .config import load_suspension
     from .model import EXUDYN_VERSION
-    from .plotting import steer_vs_travel
+    from .plotting import kc_charts
     from .results import (
         provenance,
         summary_dict,
@@ -105,8 +105,7 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
                 if run.identification is not None:
                     write_identification(tmp, run.identification, prov)
                     files += ["identification.json", "identification.txt"]
-                files += [p.name for p in steer_vs_travel(
-                    [sw for sw in sweeps if sw.load_case == "parallel_travel"], tmp, prov)]
+                files += [p.name for p in kc_charts(sweeps, tmp, prov)]
                 summary = summary_dict(run, EXUDYN_VERSION, files)
                 write_summary(tmp / "summary.json", summary)
     except ElastokinError as exc:

@@ -238,8 +238,45 @@ class TravelSpec(_Strict):
         return self
 
 
+class VerticalForceSpec(_Strict):
+    """Vertical force at the contact patch swept from the design wheel load down to ``min_N``,
+    up to ``max_N`` and back to ``min_N`` (force control, N)."""
+
+    min_N: float = Field(default=1000.0, gt=0)
+    max_N: float = Field(default=7500.0, gt=0)
+    step_N: float = Field(default=50.0, gt=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> VerticalForceSpec:
+        if not self.min_N < self.max_N:
+            raise ValueError("need min_N < max_N")
+        return self
+
+
+class ForceSweepSpec(_Strict):
+    """A force swept 0 -> +amplitude -> -amplitude -> 0 at the design wheel load (N)."""
+
+    amplitude_N: float = Field(default=2000.0, gt=0)
+    step_N: float = Field(default=50.0, gt=0)
+
+
+class TorqueSweepSpec(_Strict):
+    """A torque swept 0 -> +amplitude -> -amplitude -> 0 at the design wheel load (N*mm)."""
+
+    amplitude_Nmm: float = Field(default=1.0e5, gt=0)
+    step_Nmm: float = Field(default=2500.0, gt=0)
+
+
 class RigSpec(_Strict):
+    """The load cases of the virtual K&C rig (defaults: the reference paper's; ``null``
+    leaves a case out). Signs: ISO 8855 vehicle axes, forces on the tyre (see README)."""
+
     parallel_travel: TravelSpec = TravelSpec()
+    vertical_force: VerticalForceSpec | None = VerticalForceSpec()
+    lateral_force: ForceSweepSpec | None = ForceSweepSpec()
+    longitudinal_force_patch: ForceSweepSpec | None = ForceSweepSpec()
+    longitudinal_force_centre: ForceSweepSpec | None = ForceSweepSpec()
+    aligning_torque: TorqueSweepSpec | None = TorqueSweepSpec()
 
 
 class BushingReference(_Strict):
@@ -483,6 +520,11 @@ class Suspension:
     @property
     def up(self) -> np.ndarray:
         return np.array([0.0, 0.0, 1.0])
+
+    @property
+    def left(self) -> np.ndarray:
+        """Unit vector pointing to the vehicle's left (ISO 8855 +y), in the config frame."""
+        return np.array([0.0, 1.0 if self.frame.y == "left" else -1.0, 0.0])
 
 
 # ----------------------------------------------------------------------------------------------

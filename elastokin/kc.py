@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .config import Suspension, TravelSpec
+from .config import ForceSweepSpec, Suspension, TorqueSweepSpec, TravelSpec, VerticalForceSpec
 from .geometry import camber_deg, slope, toe_deg
 from .model import StepState, SuspensionModel
 
@@ -66,6 +66,8 @@ def characteristics(states: list[StepState], suspension: Suspension,
     pad = np.array([st.pad_force_N for st in states])
     cols = {
         "wheel_travel_mm": (centre - centre0) @ s.up,
+        "wheel_centre_longitudinal_mm": (centre - centre0) @ s.forward,
+        "wheel_centre_lateral_mm": (centre - centre0) @ s.left,
         "wheel_centre_x_mm": centre[:, 0],
         "wheel_centre_y_mm": centre[:, 1],
         "wheel_centre_z_mm": centre[:, 2],
@@ -95,6 +97,119 @@ def parallel_travel(model: SuspensionModel, label: str, spec: TravelSpec | None 
     cols = {"branch": branch, "pad_z_mm": z}
     cols.update(characteristics(states, s))
     return Sweep(label, "parallel_travel", cols)
+
+
+def sweep_path(amplitude: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """0 -> +amplitude -> -amplitude -> 0 in steps no larger than ``step``, with branch labels
+    ``rise``, ``fall`` and ``return`` (loading and unloading, as a rig records them)."""
+    n = max(1, int(np.ceil(amplitude / step - 1e-9)))
+    segments = [np.linspace(0.0, amplitude, n + 1)[1:],
+                np.linspace(amplitude, -amplitude, 2 * n + 1)[1:],
+                np.linspace(-amplitude, 0.0, n + 1)[1:]]
+    branch = np.concatenate([[b] * seg.size for b, seg in zip(("rise", "fall", "return"),
+                                                              segments)])
+    return np.concatenate(segments), branch
+
+
+#: force-controlled load cases: input column, where the load acts, and its direction
+#: (ISO 8855 vehicle axes: forward, left, up; forces and torques on the tyre / wheel)
+FORCE_CASES = {
+    "lateral_force": ("lateral_force_N", "patch", "left"),
+    "longitudinal_force_patch": ("longitudinal_force_N", "patch", "forward"),
+    "longitudinal_force_centre": ("longitudinal_force_N", "centre", "forward"),
+    "aligning_torque": ("aligning_torque_Nmm", "torque", "up"),
+}
+
+
+def force_sweep(model: SuspensionModel, label: str, case: str,
+                spec: ForceSweepSpec | TorqueSweepSpec | None = None) -> Sweep:
+    """A force (or aligning torque) swept 0 -> +A -> -A -> 0 at the design wheel load, the
+    contact patch free (force control); steering locked."""
+    s = model.suspension
+    column, where, direction = FORCE_CASES[case]
+    spec = spec or getattr(s.rig, case)
+    if isinstance(spec, TorqueSweepSpec):
+        values, branch = sweep_path(spec.amplitude_Nmm, spec.step_Nmm)
+    else:
+        values, branch = sweep_path(spec.amplitude_N, spec.step_N)
+    axis = getattr(s, direction)
+    n = values.size
+    pad = np.tile(s.up * s.design.wheel_load_N, (n, 1))
+    centre = np.zeros((n, 6))
+    if where == "patch":
+        pad = pad + values[:, None] * axis
+    elif where == "centre":
+        centre[:, :3] = values[:, None] * axis
+    else:
+        centre[:, 3:] = values[:, None] * axis
+    states = model.run(pad_loads=pad, centre_loads=centre, what=f"model '{label}', {case}")
+    cols = {"branch": branch, column: values}
+    cols.update(characteristics(states, s))
+    return Sweep(label, case, cols)
+
+
+def vertical_force(model: SuspensionModel, label: str,
+                   spec: VerticalForceSpec | None = None) -> Sweep:
+    """Vertical force at the contact patch (force control, patch free): from the design wheel
+    load down to ``min_N`` (approach), up to ``max_N`` (rise) and back to ``min_N`` (fall)."""
+    s = model.suspension
+    spec = spec or s.rig.vertical_force
+    w = s.design.wheel_load_N
+
+    def leg(a, b):
+        n = max(1, int(np.ceil(abs(b - a) / spec.step_N - 1e-9)))
+        return np.linspace(a, b, n + 1)[1:]
+
+    legs = [leg(w, spec.min_N), leg(spec.min_N, spec.max_N), leg(spec.max_N, spec.min_N)]
+    fz = np.concatenate(legs)
+    branch = np.concatenate([[b] * x.size for b, x in zip(("approach", "rise", "fall"), legs)])
+    states = model.run(pad_loads=fz[:, None] * s.up, what=f"model '{label}', vertical force")
+    cols = {"branch": branch, "vertical_force_N": fz}
+    cols.update(characteristics(states, s))
+    return Sweep(label, "vertical_force", cols)
+
+
+def run_load_cases(model: SuspensionModel, label: str) -> list[Sweep]:
+    """Every load case of the config's ``rig`` (parallel travel first). A kinematic model
+    runs the vertical cases only: without bushings its answer to a lateral or longitudinal
+    load is rigid-body statics, not compliance."""
+    rig = model.suspension.rig
+    sweeps = [parallel_travel(model, label)]
+    if rig.vertical_force is not None:
+        sweeps.append(vertical_force(model, label))
+    if not model.options.kinematic:
+        sweeps += [force_sweep(model, label, case) for case in FORCE_CASES
+                   if getattr(rig, case) is not None]
+    return sweeps
+
+
+def compliance_matrix(model: SuspensionModel, force_step_N: float = 10.0,
+                      torque_step_Nmm: float = 1000.0) -> np.ndarray:
+    """6x6 compliance of the wheel centre at the static equilibrium under the design wheel
+    load (patch free), by central differences: columns = force x, y, z (N) and torque x, y, z
+    (N*mm) at the wheel centre, rows = wheel-centre displacement x, y, z (mm) and rotation
+    vector x, y, z (deg); config frame."""
+    s = model.suspension
+    steps = [np.zeros(6)]
+    for k in range(6):
+        h = np.zeros(6)
+        h[k] = force_step_N if k < 3 else torque_step_Nmm
+        steps += [h, -h]
+    centre = np.array(steps)
+    pad = np.tile(s.up * s.design.wheel_load_N, (len(steps), 1))
+    states = model.run(pad_loads=pad, centre_loads=centre, what="compliance matrix")
+    R0, x0 = states[0].wheel_rotation, states[0].wheel_centre_mm
+    from scipy.spatial.transform import Rotation
+
+    def response(st):
+        rot = Rotation.from_matrix(st.wheel_rotation @ R0.T).as_rotvec(degrees=True)
+        return np.r_[st.wheel_centre_mm - x0, rot]
+
+    C = np.empty((6, 6))
+    for k in range(6):
+        h = centre[1 + 2 * k, k]
+        C[:, k] = (response(states[1 + 2 * k]) - response(states[2 + 2 * k])) / (2 * h)
+    return C
 
 
 def steer_amplitude_deg(sweep: Sweep) -> float:
@@ -131,6 +246,29 @@ def bushing_table(state: StepState, suspension: Suspension) -> dict[str, dict[st
     return table
 
 
+#: gradient name -> (load case, x column, y column, scale): least squares over the whole sweep
+GRADIENTS = {
+    "bump_camber_deg_per_m": ("parallel_travel", "wheel_travel_mm", "camber_deg", 1000.0),
+    "wheel_rate_N_per_mm": ("vertical_force", "wheel_travel_mm", "vertical_force_N", 1.0),
+    "lateral_compliance_steer_deg_per_kN": ("lateral_force", "lateral_force_N", "toe_deg",
+                                            1000.0),
+    "lateral_compliance_camber_deg_per_kN": ("lateral_force", "lateral_force_N",
+                                             "camber_deg", 1000.0),
+    "lateral_compliance_mm_per_kN": ("lateral_force", "lateral_force_N",
+                                     "wheel_centre_lateral_mm", 1000.0),
+    "longitudinal_compliance_mm_per_kN": ("longitudinal_force_patch", "longitudinal_force_N",
+                                          "wheel_centre_longitudinal_mm", 1000.0),
+    "longitudinal_compliance_steer_deg_per_kN": ("longitudinal_force_patch",
+                                                 "longitudinal_force_N", "toe_deg", 1000.0),
+    "traction_compliance_mm_per_kN": ("longitudinal_force_centre", "longitudinal_force_N",
+                                      "wheel_centre_longitudinal_mm", 1000.0),
+    "traction_compliance_steer_deg_per_kN": ("longitudinal_force_centre",
+                                             "longitudinal_force_N", "toe_deg", 1000.0),
+    "aligning_torque_compliance_steer_deg_per_kNm": ("aligning_torque", "aligning_torque_Nmm",
+                                                     "toe_deg", 1.0e6),
+}
+
+
 @dataclass
 class StaticResult:
     """The static equilibrium under the design wheel load (force control at the patch)."""
@@ -149,12 +287,27 @@ class ModelResult:
     kinematic: bool
     sweeps: list[Sweep]
     solver: dict
+    compliance: np.ndarray | None = None  # see compliance_matrix
+
+    def sweep(self, load_case: str) -> Sweep | None:
+        return next((sw for sw in self.sweeps if sw.load_case == load_case), None)
 
     def summary(self) -> dict:
-        travel = next(sw for sw in self.sweeps if sw.load_case == "parallel_travel")
-        return {"steer_amplitude_deg": steer_amplitude_deg(travel),
-                "bump_steer_deg_per_m": bump_steer_deg_per_m(travel),
-                "kinematic": self.kinematic}
+        """Summary figures (None when the load case was not run); definitions in
+        :data:`GRADIENTS` and the README."""
+        travel = self.sweep("parallel_travel")
+        out = {"steer_amplitude_deg": steer_amplitude_deg(travel),
+               "bump_steer_deg_per_m": bump_steer_deg_per_m(travel),
+               "kinematic": self.kinematic}
+        for name, (case, x, y, scale) in GRADIENTS.items():
+            sw = self.sweep(case)
+            out[name] = None if sw is None else scale * slope(sw.columns[x], sw.columns[y])
+        if self.compliance is not None:
+            out["compliance_matrix"] = {
+                "rows": "wheel-centre displacement x y z [mm], rotation x y z [deg]",
+                "columns": "force x y z [N], torque x y z [N*mm] at the wheel centre",
+                "frame": "config", "values": self.compliance.tolist()}
+        return out
 
 
 def static_equilibrium(model: SuspensionModel) -> StaticResult:

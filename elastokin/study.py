@@ -8,7 +8,13 @@ from dataclasses import dataclass
 
 from .config import Suspension, suspension_from_dict
 from .identify import Identification, identify
-from .kc import ModelResult, StaticResult, parallel_travel, static_equilibrium
+from .kc import (
+    ModelResult,
+    StaticResult,
+    compliance_matrix,
+    run_load_cases,
+    static_equilibrium,
+)
 from .model import DesignState, ModelOptions, build_model, design_state
 
 
@@ -70,7 +76,9 @@ def run_vertical_kc(suspension: Suspension,
         if label == static_label:
             progress("static equilibrium")
             static, design = static_equilibrium(model), designs[id(susp)]
-        progress(f"model '{label}': parallel travel")
-        sweep = parallel_travel(model, label)
-        models[label] = ModelResult(label, options.kinematic, [sweep], model.solver_settings())
+        progress(f"model '{label}': K&C load cases")
+        sweeps = run_load_cases(model, label)
+        compliance = None if options.kinematic else compliance_matrix(model)
+        models[label] = ModelResult(label, options.kinematic, sweeps, model.solver_settings(),
+                                    compliance)
     return KCRun(s, design, static, models, ident)

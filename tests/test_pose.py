@@ -1,5 +1,7 @@
 """Identification geometry [1-27]: hand-checkable cases and hypothesis property tests."""
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings
@@ -8,6 +10,7 @@ from scipy.spatial.transform import Rotation
 
 from elastokin.errors import MeasurementError
 from elastokin.pose import (
+    _passing,
     clearance_bound_mm,
     deflection_operator,
     euler_zxz_deg,
@@ -67,12 +70,24 @@ def test_pose_recovered_in_any_order_with_noise(seed, order, noise):
 @given(st.integers(0, 10_000), st.integers(0, 3), st.permutations(range(4)))
 @settings(max_examples=300, deadline=None)
 @example(263, 0, [0, 1, 2, 3])  # the outlier completes a triangle within eps by chance
+@example(8510, 2, [0, 1, 2, 3])  # ... and fits as well as the true triple: ambiguous
 def test_one_gross_outlier_is_dropped(seed, bad, order):
     R, t, rng = rigid(seed)
     measured = MARKS @ R.T + t + rng.normal(0, 0.03, (4, 3))
     direction = rng.normal(size=3)
     measured[bad] += 15.0 * direction / np.linalg.norm(direction)  # a grossly wrong point
-    m = match_marks(MARKS, measured[list(order)], EPS, "arm")
+    q = measured[list(order)]
+    try:
+        m = match_marks(MARKS, q, EPS, "arm")
+    except MeasurementError as exc:
+        # rarely the wrong point completes another triangle of marks within eps and fits as
+        # well as the true one: both "one point is wrong" readings hold, and the only right
+        # answer is to refuse; check that this is such a case (seed 8510, bad 2 is one)
+        assert "cannot tell which point is wrong" in str(exc)
+        wrong = order.index(bad)
+        assert any(wrong in h for marks in itertools.combinations(range(4), 3)
+                   for h in _passing(MARKS, q, marks, EPS))
+        return
     assert m.dropped_mark == bad
     assert m.residual_rms_mm < 0.1
 
