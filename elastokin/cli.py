@@ -219,5 +219,7 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None) -> Non
                + ", ".join(f.name for f in files))
 
 
+from . import cli_adams  # noqa: E402,F401  (registers import-adams / export-adams)
+
 if __name__ == "__main__":  # pragma: no cover
     main()
