@@ -249,9 +249,13 @@ class _Features:
     def __init__(self, parts: dict[str, PartMeasurement], poses: dict[str, PartPose]):
         self.parts, self.poses = parts, poses
 
+    def _table(self, kind: str, part: str) -> dict[str, np.ndarray]:
+        pm = self.parts[part]
+        return {"point": pm.points, "axis": pm.axes, "radial": pm.radials}[kind]
+
     def _get(self, kind: str, part: str, hp: str, what: str) -> np.ndarray:
         pm = self.parts[part]
-        table = {"point": pm.points, "axis": pm.axes, "radial": pm.radials}[kind]
+        table = self._table(kind, part)
         if hp not in table:
             label = {"point": hp, "axis": f"{hp}.Z", "radial": f"{hp}.X"}[kind]
             entity = "point" if kind == "point" else "line"
@@ -271,8 +275,7 @@ class _Features:
         return self._get("radial", part, hp, what)
 
     def has(self, kind: str, part: str, hp: str) -> bool:
-        pm = self.parts[part]
-        return hp in {"point": pm.points, "axis": pm.axes, "radial": pm.radials}[kind]
+        return hp in self._table(kind, part)
 
 
 def _frame(z: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -488,14 +491,14 @@ def _verify(result: Identification, build_model) -> None:
     poses = model.part_poses()
     dev: dict[str, float] = {}
     for name in result.joints:
-        hp = name.split(":")[-1] if ":" in name else None
-        spec = result.identified_config["connections"][name.split(":")[0]]
-        at = hp or spec["at"]
+        connection, _, end = name.partition(":")  # a link end is "<link>:<hardpoint>"
+        spec = result.identified_config["connections"][connection]
+        if end:
+            at, parts = end, [spec["parts"][spec["at"].index(end)]]
+        else:
+            at, parts = spec["at"], spec["parts"]
+        parts = [p for p in parts if p != s.ground]
         x = np.asarray(s.hardpoints[at])
-        parts = [p for p in spec["parts"] if p != s.ground]
-        if spec["type"] == "link":
-            parts = [spec["parts"][spec["at"].index(at)]] if spec["parts"][
-                spec["at"].index(at)] != s.ground else []
         dev[name] = max([float(np.linalg.norm(poses.moved(p, x) - x)) for p in parts],
                         default=0.0)
     result.verification_mm = dev

@@ -41,15 +41,19 @@ class Sweep:
         return len(self.columns["branch"])
 
 
+def _leg(start: float, end: float, step: float) -> np.ndarray:
+    """Equal steps no larger than ``step`` from ``start`` (excluded) to ``end`` (included)."""
+    n = max(1, int(np.ceil(abs(end - start) / step - 1e-9)))
+    return np.linspace(start, end, n + 1)[1:]
+
+
 def travel_path(spec: TravelSpec) -> tuple[np.ndarray, np.ndarray]:
     """Prescribed contact-patch travel (mm) and branch labels for a parallel-travel case:
     from the design position (0) down to ``rebound_mm``, then up to ``bump_mm``, in steps no
     larger than ``step_mm``."""
     lo, hi, step = spec.rebound_mm, spec.bump_mm, spec.step_mm
-    n_in = max(1, int(np.ceil(abs(lo) / step - 1e-9)))
-    approach = np.linspace(0.0, lo, n_in + 1)[1:]
-    n = max(1, int(np.ceil((hi - lo) / step - 1e-9)))
-    stroke = np.linspace(lo, hi, n + 1)[1:]
+    approach = _leg(0.0, lo, step)
+    stroke = _leg(lo, hi, step)
     z = np.r_[approach, stroke]
     branch = np.array(["approach"] * approach.size + ["stroke"] * stroke.size)
     branch[approach.size - 1] = "stroke"  # the stroke starts at the rebound point
@@ -102,10 +106,10 @@ def parallel_travel(model: SuspensionModel, label: str, spec: TravelSpec | None 
 def sweep_path(amplitude: float, step: float) -> tuple[np.ndarray, np.ndarray]:
     """0 -> +amplitude -> -amplitude -> 0 in steps no larger than ``step``, with branch labels
     ``rise``, ``fall`` and ``return`` (loading and unloading, as a rig records them)."""
-    n = max(1, int(np.ceil(amplitude / step - 1e-9)))
-    segments = [np.linspace(0.0, amplitude, n + 1)[1:],
-                np.linspace(amplitude, -amplitude, 2 * n + 1)[1:],
-                np.linspace(-amplitude, 0.0, n + 1)[1:]]
+    rise = _leg(0.0, amplitude, step)
+    # twice the rise's steps, so that both branches pass the same force values
+    fall = np.linspace(amplitude, -amplitude, 2 * rise.size + 1)[1:]
+    segments = [rise, fall, _leg(-amplitude, 0.0, step)]
     branch = np.concatenate([[b] * seg.size for b, seg in zip(("rise", "fall", "return"),
                                                               segments)])
     return np.concatenate(segments), branch
@@ -154,13 +158,9 @@ def vertical_force(model: SuspensionModel, label: str,
     load down to ``min_N`` (approach), up to ``max_N`` (rise) and back to ``min_N`` (fall)."""
     s = model.suspension
     spec = spec or s.rig.vertical_force
-    w = s.design.wheel_load_N
-
-    def leg(a, b):
-        n = max(1, int(np.ceil(abs(b - a) / spec.step_N - 1e-9)))
-        return np.linspace(a, b, n + 1)[1:]
-
-    legs = [leg(w, spec.min_N), leg(spec.min_N, spec.max_N), leg(spec.max_N, spec.min_N)]
+    w, step = s.design.wheel_load_N, spec.step_N
+    legs = [_leg(w, spec.min_N, step), _leg(spec.min_N, spec.max_N, step),
+            _leg(spec.max_N, spec.min_N, step)]
     fz = np.concatenate(legs)
     branch = np.concatenate([[b] * x.size for b, x in zip(("approach", "rise", "fall"), legs)])
     states = model.run(pad_loads=fz[:, None] * s.up, what=f"model '{label}', vertical force")

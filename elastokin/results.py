@@ -116,8 +116,7 @@ def write_summary(path: Path, summary: dict) -> None:
 def identification_dict(ident, prov: dict) -> dict:
     """``identification.json``: the contract keys (parts, joints, verification) plus details
     and provenance. Vehicle (config) frame, mm, deg."""
-    return {**{k: prov[k] for k in ("elastokin_version", "exudyn_version", "config_file",
-                                    "config_sha256", "units")},
+    return {**prov,
             "eps_mm": ident.suspension.measurements.eps_mm,
             **ident.to_json(),
             "conventions": {
