@@ -106,6 +106,80 @@ def _round(v, nd: int = 6):
     return a.tolist()
 
 
+def clearance_shifts(suspension: Suspension, rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """Random assembly-clearance shifts (mm, config frame) of every joint that
+    ``measurements.joints`` gives a clearance: bushings uniform over the disc of radius dL_max
+    normal to the housing axis, other joints uniform over the ball of radius dL_max [1].
+    Joints are drawn in the order of ``measurements.joints``, so a seed gives the same shifts.
+    """
+    m = suspension.measurements
+    bushings = {b.name: b for b in suspension.bushings}
+    shifts: dict[str, np.ndarray] = {}
+    for name, jm in m.joints.items():
+        if jm.clearance is None:
+            continue
+        if name in bushings:
+            shifts[name] = _disc(rng, jm.clearance.max_shift_mm, bushings[name].frame[:, 2])
+        else:
+            shifts[name] = _ball(rng, jm.clearance.max_shift_mm)
+    return shifts
+
+
+@dataclasses.dataclass
+class AsBuilt:
+    """An as-built suspension: the config with joints shifted by assembly clearance.
+
+    ``suspension`` carries the shifts as per-part joint attachment offsets
+    (``Joint.part_shift_mm``); ``bushing_preload`` (N, N*mm, bushing frame) is each bushing's
+    load at the design position with its inner sleeve shifted; ``spring_force_N`` the design
+    spring preloads; ``housing_mm`` each bushing's inner-sleeve housing centre (config frame,
+    design position). Build the model with
+    ``SuspensionModel(suspension, options, bushing_preload=..., spring_force_N=...)``."""
+
+    suspension: Suspension
+    shifts_mm: dict[str, np.ndarray]
+    bushing_preload: dict[str, np.ndarray]
+    spring_force_N: dict[str, float]
+    housing_mm: dict[str, np.ndarray]
+
+
+def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None) -> AsBuilt:
+    """The as-built suspension for given clearance shifts (mm, config frame, keyed by joint or
+    bushing name; see :func:`clearance_shifts`). A bushing's inner sleeve shifted by delta
+    changes its design deflection by -delta (outer relative to inner); a joint's shift moves
+    its attachment on the ``bolted`` part."""
+    from .model import design_state
+
+    s = suspension
+    m = s.measurements
+    design = design if design is not None else design_state(s)
+    preload = dict(design.bushing_preload)
+    housing = {}
+    for b in s.bushings:
+        u0 = np.array([law.deflection_at(f) for law, f in
+                       zip(b.laws, design.bushing_preload[b.name])])
+        sign = 1.0 if b.parts[0] == m.joints[b.name].inner else -1.0
+        housing[b.name] = b.position_mm - sign * b.frame @ u0[:3]
+        if b.name in shifts:  # inner sleeve shifted by delta: outer rel. inner less by delta
+            u = u0.copy()
+            u[:3] -= sign * b.frame.T @ shifts[b.name]
+            preload[b.name] = np.array([law(x) for law, x in zip(b.laws, u)])
+    joints = []
+    for j in s.joints:
+        if j.name in shifts:
+            bolted = m.joints[j.name].bolted
+            if bolted is None:
+                raise ConfigError(f"{s.source}: key 'measurements.joints.{j.name}': a "
+                                  "clearance needs 'bolted: <part>' (the side with the hole)")
+            k = j.parts.index(bolted)
+            part_shift = [np.zeros(3), np.zeros(3)]
+            part_shift[k] = np.asarray(shifts[j.name], float)
+            j = dataclasses.replace(j, part_shift_mm=tuple(part_shift))
+        joints.append(j)
+    built = dataclasses.replace(s, joints=tuple(joints), source=f"{s.source} (as-built)")
+    return AsBuilt(built, dict(shifts), preload, dict(design.spring_force_N), housing)
+
+
 def synthesize(suspension: Suspension, seed: int | None = None,
                folder: Path | None = None) -> list[Path]:
     """Make the as-built suspension and write its virtual CMM files; returns the paths."""
@@ -128,40 +202,11 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     bushings = {b.name: b for b in s.bushings}
 
     # ---- as-built: clearance shifts (config frame, design position)
-    shifts: dict[str, np.ndarray] = {}
-    for name, jm in m.joints.items():
-        if jm.clearance is None:
-            continue
-        if name in bushings:
-            shifts[name] = _disc(rng, jm.clearance.max_shift_mm, bushings[name].frame[:, 2])
-        else:
-            shifts[name] = _ball(rng, jm.clearance.max_shift_mm)
-    preload = dict(design.bushing_preload)
-    u0_nom, housing = {}, {}
-    for b in s.bushings:
-        u0_nom[b.name] = np.array([law.deflection_at(f) for law, f in
-                                   zip(b.laws, design.bushing_preload[b.name])])
-        sign = 1.0 if b.parts[0] == m.joints[b.name].inner else -1.0
-        housing[b.name] = b.position_mm - sign * b.frame @ u0_nom[b.name][:3]
-        if b.name in shifts:  # inner sleeve shifted by delta: outer rel. inner less by delta
-            u = u0_nom[b.name].copy()
-            u[:3] -= sign * b.frame.T @ shifts[b.name]
-            preload[b.name] = np.array([law(x) for law, x in zip(b.laws, u)])
-    joints = []
-    for j in s.joints:
-        if j.name in shifts:
-            bolted = m.joints[j.name].bolted
-            if bolted is None:
-                raise ConfigError(f"{s.source}: key 'measurements.joints.{j.name}': a "
-                                  "clearance needs 'bolted: <part>' (the side with the hole)")
-            k = j.parts.index(bolted)
-            part_shift = [np.zeros(3), np.zeros(3)]
-            part_shift[k] = shifts[j.name]
-            j = dataclasses.replace(j, part_shift_mm=tuple(part_shift))
-        joints.append(j)
-    as_built = dataclasses.replace(s, joints=tuple(joints), source=f"{s.source} (as-built)")
-    model = SuspensionModel(as_built, ModelOptions(), bushing_preload=preload,
-                            spring_force_N=design.spring_force_N)
+    shifts = clearance_shifts(s, rng)
+    built = as_built(s, shifts, design)
+    housing = built.housing_mm
+    model = SuspensionModel(built.suspension, ModelOptions(), bushing_preload=built.bushing_preload,
+                            spring_force_N=built.spring_force_N)
     static_equilibrium(model)
     poses = model.part_poses()
 
