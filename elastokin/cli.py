@@ -129,10 +129,24 @@ def _report(summary: dict, out_dir: Path) -> str:
         lines.append(f"  {name:<10}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
                      f"{b['torsion_deg']:>13.4f}   {ref_txt}")
     lines.append("")
-    lines.append(f"  {'model':<20}{'steer amplitude deg':>21}{'bump steer deg/m':>18}")
+    def num(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    errors = summary.get("errors", {})
+    head = f"  {'model':<20}{'steer amplitude deg':>21}{'bump steer deg/m':>18}"
+    if errors:
+        head += f"{'RMS error: steer/travel deg':>29}{'steer/lateral deg':>19}" \
+                f"{'long. disp. mm':>16}"
+    lines.append(head)
     for label, m in summary["models"].items():
-        lines.append(f"  {label:<20}{m['steer_amplitude_deg']:>21.4f}"
-                     f"{m['bump_steer_deg_per_m']:>18.3f}")
+        row = f"  {label:<20}{num(m['steer_amplitude_deg'], '.4f'):>21}" \
+              f"{num(m['bump_steer_deg_per_m'], '.3f'):>18}"
+        e = errors.get(label)
+        if e:
+            row += f"{num(e['steer_vs_travel_rms_deg'], '.4f'):>29}" \
+                   f"{num(e['steer_vs_lateral_force_rms_deg'], '.4f'):>19}" \
+                   f"{num(e['longitudinal_displacement_rms_mm'], '.3f'):>16}"
+        lines.append(row)
     refs = summary["reference"]["steer_amplitude_deg"]
     if refs:
         lines.append("  reference steer amplitude (deg): "
@@ -199,24 +213,43 @@ def identify(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
               help="Random seed (default: measurements.synthetic.seed of the config).")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
               default=None, show_default="the config's measurements.folder",
-              help="Folder for the files (the config's measurements.folder by default).")
-def synthesize(config_path: Path, seed: int | None, out_dir: Path | None) -> None:
-    """Virtual CMM: write synthetic measurement files for a nominal config.
+              help="Folder for the CMM files (the config's measurements.folder by default).")
+@click.option("--kc-test-out", "kc_test_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=None, show_default="the config's kc_test.folder",
+              help="Folder for the synthetic K&C test files.")
+@click.option("--only", type=click.Choice(["cmm", "kc-test"]), default=None,
+              help="Write only the CMM files or only the K&C test files (default: both, the "
+                   "K&C test files when the config has kc_test.synthetic).")
+def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
+               kc_test_dir: Path | None, only: str | None) -> None:
+    """Synthetic case-study data: virtual CMM files and K&C rig test files.
 
     Makes an as-built suspension (bolted joints shifted within their clearance), solves its
     static equilibrium under the design wheel load, and writes what a CMM would give: every
     part measured alone and the assembled marks (IGES and CSV; noisy, scrambled, one wrong
-    mark), plus truth.yaml. The same config and seed give the same bytes.
+    mark), plus truth.yaml. With a 'kc_test.synthetic' section it also runs the synthetic
+    real suspension (as-built + progressive bushings + ball-joint friction) on the rig and
+    writes one K&C test CSV per load case. The same config and seed give the same bytes.
     """
     from .config import load_suspension
+    from .real_suspension import write_kc_test_files
     from .synthesize import synthesize as run_synthesis
 
     try:
-        files = run_synthesis(load_suspension(config_path), seed, out_dir)
+        s = load_suspension(config_path)
+        written = []
+        if only in (None, "cmm"):
+            files = run_synthesis(s, seed, out_dir)
+            written.append(f"wrote {len(files)} files in {files[0].parent}/: "
+                           + ", ".join(f.name for f in files))
+        if only == "kc-test" or (only is None and s.kc_test is not None
+                                 and s.kc_test.synthetic is not None):
+            files = write_kc_test_files(s, kc_test_dir, seed=seed)
+            written.append(f"wrote {len(files)} K&C test files in {files[0].parent}/: "
+                           + ", ".join(f.name for f in files))
     except ElastokinError as exc:
         _fail(str(exc))
-    click.echo(f"wrote {len(files)} files in {files[0].parent}/: "
-               + ", ".join(f.name for f in files))
+    click.echo("\n".join(written))
 
 
 from . import cli_adams  # noqa: E402,F401  (registers import-adams / export-adams)

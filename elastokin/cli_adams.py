@@ -70,12 +70,13 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
         cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
                                      f"template {template_path}")
         bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
-        m = cfg.get("measurements")
-        if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
-            # keep the CMM files found from the new config's folder
-            target = template_path.parent / m.get("folder", ".")
-            rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
-            m["folder"] = Path(rel).as_posix()
+        for key in ("measurements", "kc_test"):
+            m = cfg.get(key)
+            if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
+                # keep the CMM / K&C test files found from the new config's folder
+                target = template_path.parent / m.get("folder", ".")
+                rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
+                m["folder"] = Path(rel).as_posix()
         suspension_from_dict(cfg, str(out_path))  # the new config must be valid
         sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
                    f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",

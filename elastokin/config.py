@@ -230,6 +230,7 @@ class TravelSpec(_Strict):
     rebound_mm: float = -90.0
     bump_mm: float = 90.0
     step_mm: float = Field(default=1.0, gt=0)
+    unloading: bool = True  # return from bump to rebound after the loading stroke
 
     @model_validator(mode="after")
     def _ordered(self) -> TravelSpec:
@@ -370,6 +371,44 @@ class MeasurementsSpec(_Strict):
     synthetic: SyntheticSpec | None = None
 
 
+class RealBushingSpec(_Strict):
+    """A bushing of the synthetic real suspension: its law per direction is
+    ``F = scale * k * v * (1 + (v / progression)^2)`` with k the config's rate at zero
+    (Table 1) and v the deflection (mm or deg); its design load is the as-built one."""
+
+    translation_scale: float = Field(default=1.0, gt=0)
+    rotation_scale: float = Field(default=1.0, gt=0)
+    progression_mm: float | None = Field(default=None, gt=0)  # None: linear
+    progression_deg: float | None = Field(default=None, gt=0)
+
+
+class KCTestNoiseSpec(_Strict):
+    """Rig noise of the synthetic test data: Gaussian, standard deviation per quantity."""
+
+    angle_deg: float = Field(default=0.0, ge=0)
+    length_mm: float = Field(default=0.0, ge=0)
+
+
+class RealSuspensionSpec(_Strict):
+    """How ``elastokin synthesize`` makes the SYNTHETIC K&C test data: the as-built
+    suspension of the measurements (same seed) plus physics the models do not have."""
+
+    seed: int | None = None  # None: measurements.synthetic.seed
+    bushings: dict[str, RealBushingSpec] = {}
+    ball_joint_friction_Nmm: dict[str, float] = {}  # breakaway torque per spherical joint
+    presliding_deg: float = Field(default=0.05, gt=0)  # stick rotation before the joint slips
+    substeps: int = Field(default=4, ge=1)  # solver steps per recorded rig step (friction)
+    noise: KCTestNoiseSpec = KCTestNoiseSpec()
+
+
+class KCTestSpec(_Strict):
+    """K&C rig test data compared with every model (docs/kc_test_data.md)."""
+
+    folder: str = "."  # relative to the config file
+    files: dict[str, str] = {}  # load case -> file; default <load case>.csv when it exists
+    synthetic: RealSuspensionSpec | None = None
+
+
 class SuspensionFile(_Strict):
     """Top-level schema of a suspension config file."""
 
@@ -390,6 +429,7 @@ class SuspensionFile(_Strict):
     rig: RigSpec = RigSpec()
     reference: ReferenceSpec = ReferenceSpec()
     measurements: MeasurementsSpec | None = None
+    kc_test: KCTestSpec | None = None
 
     @field_validator("parts")
     @classmethod
@@ -505,6 +545,7 @@ class Suspension:
     reference: ReferenceSpec = field(default_factory=ReferenceSpec)
     raw: dict = field(repr=False, default_factory=dict)
     measurements: MeasurementsSpec | None = None
+    kc_test: KCTestSpec | None = None
 
     @property
     def forward(self) -> np.ndarray:
@@ -726,6 +767,7 @@ class _Resolver:
             joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
             springs=tuple(springs), design=d, kinematic=s.kinematic, solver=s.solver, rig=s.rig,
             reference=s.reference, raw=raw, measurements=s.measurements,
+            kc_test=s.kc_test,
         )
         # orient the spin axis outboard, whatever sign the file used
         if spin @ res.outboard < 0:

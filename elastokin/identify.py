@@ -407,6 +407,7 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
     def config(hardpoints, label):
         d = copy.deepcopy(raw)
         d.pop("measurements", None)
+        d.pop("kc_test", None)
         d["name"] = f"{raw['name']} ({label})"
         d["hardpoints"] = {k: _clean(hardpoints.get(k, v)) for k, v in raw["hardpoints"].items()}
         for name, a in axes_measured.items():

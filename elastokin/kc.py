@@ -49,14 +49,17 @@ def _leg(start: float, end: float, step: float) -> np.ndarray:
 
 def travel_path(spec: TravelSpec) -> tuple[np.ndarray, np.ndarray]:
     """Prescribed contact-patch travel (mm) and branch labels for a parallel-travel case:
-    from the design position (0) down to ``rebound_mm``, then up to ``bump_mm``, in steps no
-    larger than ``step_mm``."""
+    from the design position (0) down to ``rebound_mm`` (``approach``), up to ``bump_mm``
+    (``stroke``, loading) and, with ``unloading``, back down to ``rebound_mm`` (``return``),
+    in steps no larger than ``step_mm``."""
     lo, hi, step = spec.rebound_mm, spec.bump_mm, spec.step_mm
-    approach = _leg(0.0, lo, step)
-    stroke = _leg(lo, hi, step)
-    z = np.r_[approach, stroke]
-    branch = np.array(["approach"] * approach.size + ["stroke"] * stroke.size)
-    branch[approach.size - 1] = "stroke"  # the stroke starts at the rebound point
+    legs = [_leg(0.0, lo, step), _leg(lo, hi, step)]
+    if spec.unloading:
+        legs.append(_leg(hi, lo, step))
+    z = np.concatenate(legs)
+    branch = np.concatenate([[b] * leg.size for b, leg in zip(("approach", "stroke", "return"),
+                                                              legs)])
+    branch[legs[0].size - 1] = "stroke"  # the stroke starts at the rebound point
     return z, branch
 
 
@@ -296,12 +299,14 @@ class ModelResult:
         """Summary figures (None when the load case was not run); definitions in
         :data:`GRADIENTS` and the README."""
         travel = self.sweep("parallel_travel")
-        out = {"steer_amplitude_deg": steer_amplitude_deg(travel),
-               "bump_steer_deg_per_m": bump_steer_deg_per_m(travel),
+        has_toe = travel is not None and "toe_deg" in travel.columns
+        out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
+               "bump_steer_deg_per_m": bump_steer_deg_per_m(travel) if has_toe else None,
                "kinematic": self.kinematic}
         for name, (case, x, y, scale) in GRADIENTS.items():
             sw = self.sweep(case)
-            out[name] = None if sw is None else scale * slope(sw.columns[x], sw.columns[y])
+            ok = sw is not None and x in sw.columns and y in sw.columns
+            out[name] = scale * slope(sw.columns[x], sw.columns[y]) if ok else None
         if self.compliance is not None:
             out["compliance_matrix"] = {
                 "rows": "wheel-centre displacement x y z [mm], rotation x y z [deg]",

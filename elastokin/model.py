@@ -58,6 +58,9 @@ _DEG = np.pi / 180.0
 REGULARISATION = 1e-3
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
+#: ball-joint friction: re-solves of a step at most, and the accepted torque excess (relative)
+FRICTION_ITERATIONS = 200
+FRICTION_TOLERANCE = 1e-3
 #: stiffness holding a bushing's ideal-joint rotations while balancing the design preloads
 _BALANCING_ROTATION = 1e9  # N*mm/rad
 
@@ -150,8 +153,15 @@ class SuspensionModel:
 
     def __init__(self, suspension: Suspension, options: ModelOptions = ModelOptions(),
                  bushing_preload: dict[str, np.ndarray] | None = None,
-                 spring_force_N: dict[str, float] | None = None, _balancing: bool = False):
+                 spring_force_N: dict[str, float] | None = None, _balancing: bool = False,
+                 joint_friction_Nmm: dict[str, float] | None = None,
+                 presliding_deg: float = 0.05, substeps: int = 1):
         self.suspension = suspension
+        self.substeps = int(substeps)  # default solver steps per returned step, see run()
+        # dry friction in spherical joints (synthetic real suspension only): breakaway torque
+        # (N*mm) per joint and the stick rotation before it slips (deg); see _add_friction
+        self._friction_spec = dict(joint_friction_Nmm or {})
+        self._presliding_rad = presliding_deg * _DEG
         self.options = options
         self._balancing = _balancing
         # bushing loads at the design position (N, N*mm) -> initial deflections of the
@@ -210,6 +220,8 @@ class SuspensionModel:
             self._links[link.name] = mbs.AddObject(ObjectConnectorDistance(
                 markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
         self._bushings = {b.name: self._add_bushing(b) for b in s.bushings}
+        self._friction = {name: self._add_friction(name, torque)
+                          for name, torque in self._friction_spec.items()}
         self._springs = {}
         for sp in s.springs:
             m0 = self._position_marker(sp.parts[0], sp.seats_mm[0])
@@ -341,6 +353,48 @@ class SuspensionModel:
         entry.update(object=obj, linear=False, laws=laws, u0=u0)
         return entry
 
+    def _add_friction(self, name: str, torque_Nmm: float) -> dict:
+        """Dry friction in a spherical joint as a Jenkins element: a rotational stick spring
+        between the two parts (stiffness = breakaway torque / presliding rotation) whose
+        anchor slips so that the torque never exceeds the breakaway torque (return mapping
+        after every solved step, see :meth:`_slip`). Rate-independent hysteresis."""
+        joint = next((j for j in self.suspension.joints if j.name == name), None)
+        if joint is None or joint.kind != "spherical":
+            raise ModelError(f"{self.suspension.source}: ball-joint friction on '{name}': "
+                             "expected the name of a spherical joint")
+        if not torque_Nmm > 0:
+            raise ModelError(f"{self.suspension.source}: ball-joint friction on '{name}': "
+                             f"breakaway torque must be positive, got {torque_Nmm}")
+        k = torque_Nmm / self._presliding_rad  # N*mm/rad
+        m0 = self._rigid_marker(joint.parts[0], joint.position_mm, np.eye(3))
+        m1 = self._rigid_marker(joint.parts[1], joint.position_mm, np.eye(3))
+        obj = self.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
+            markerNumbers=[m0, m1], stiffness=np.diag([0.0, 0.0, 0.0, k, k, k]),
+            damping=np.zeros((6, 6)), offset=[0.0] * 6, name=f"friction:{name}"))
+        return {"object": obj, "k": k, "torque": float(torque_Nmm), "anchor": np.zeros(3)}
+
+    def _slip(self) -> float:
+        """Return mapping of every friction element at the current state: where the stick
+        torque exceeds the breakaway torque the anchor moves so that it equals it. Returns
+        the largest excess torque relative to the breakaway torque (0 when all stick)."""
+        ovt = exu.OutputVariableType
+        worst = 0.0
+        for e in self._friction.values():
+            theta = np.asarray(self.mbs.GetObjectOutput(e["object"], ovt.Rotation), float)
+            trial = e["k"] * (theta - e["anchor"])
+            size = float(np.linalg.norm(trial))
+            if size > e["torque"]:
+                worst = max(worst, size / e["torque"] - 1.0)
+                e["anchor"] = theta - (e["torque"] / e["k"]) * trial / size
+                self.mbs.SetObjectParameter(e["object"], "offset",
+                                            [0.0, 0.0, 0.0, *e["anchor"].tolist()])
+        return worst
+
+    def _reset_friction(self) -> None:
+        for e in self._friction.values():
+            e["anchor"] = np.zeros(3)
+            self.mbs.SetObjectParameter(e["object"], "offset", [0.0] * 6)
+
     def _add_sensors(self) -> None:
         """Record every output in C++ at each load step (no Python call per step)."""
         mbs = self.mbs
@@ -428,7 +482,8 @@ class SuspensionModel:
     def run(self, pad_z_mm: Sequence[float] | None = None,
             pad_loads: np.ndarray | None = None,
             centre_loads: np.ndarray | None = None,
-            what: str = "static solve", solve_per_step: bool = False) -> list[StepState]:
+            what: str = "static solve", solve_per_step: bool = False,
+            substeps: int | None = None) -> list[StepState]:
         """Solve a sequence of quasi-static steps from the design position.
 
         pad_z_mm: prescribed vertical displacement of the contact patch per step (mm), or None
@@ -436,18 +491,35 @@ class SuspensionModel:
         pad_loads: (n, 3) forces at the contact patch per step, N, config frame.
         centre_loads: (n, 6) forces (N) and torques (N*mm) at the wheel centre per step.
         solve_per_step: one Exudyn ``SolveStatic`` per step (the slow, straightforward way,
-            kept for benchmarks) instead of one solve over all steps.
+            kept for benchmarks) instead of one solve over all steps. A model with ball-joint
+            friction always solves per step (the friction anchors are updated between steps).
+        substeps: solver steps per returned step (the rig path subdivided linearly; friction
+            models need them to follow the slip); default: the model's ``substeps``.
         Returns one :class:`StepState` per step. Raises :class:`SolverError` naming the step
         that did not converge.
         """
         if pad_z_mm is None and pad_loads is None:
             raise ModelError("run: give pad_z_mm (displacement control) or pad_loads")
         n = len(pad_z_mm) if pad_z_mm is not None else len(pad_loads)
-        ts = np.linspace(0.0, 1.0, n + 1)
         pl = np.asarray(pad_loads, float).reshape(n, 3) if pad_loads is not None \
             else np.zeros((n, 3))
         cl = np.asarray(centre_loads, float).reshape(n, 6) if centre_loads is not None \
             else np.zeros((n, 6))
+        substeps = self.substeps if substeps is None else int(substeps)
+        if substeps > 1:
+            def refine(v, start):
+                path = np.vstack([start, v])
+                s = np.linspace(0.0, n, n * substeps + 1)
+                return np.array([np.interp(s, np.arange(n + 1), c) for c in path.T]).T[1:]
+            pl, cl = refine(pl, pl[:1]), refine(cl, cl[:1])
+            if pad_z_mm is not None:
+                pad_z_mm = refine(np.asarray(pad_z_mm, float)[:, None], [[0.0]])[:, 0]
+            states = self.run(pad_z_mm, pl, cl, what, solve_per_step, substeps=1)
+            return states[substeps - 1::substeps]
+        ts = np.linspace(0.0, 1.0, n + 1)
+        if self._friction:
+            solve_per_step = True
+            self._reset_friction()
         # every path starts from the design state at t = 0 (offset 0, loads of the first step)
         pad_path = np.vstack([pl[:1], pl])
         centre_path = np.vstack([cl[:1], cl])
@@ -483,10 +555,19 @@ class SuspensionModel:
             try:
                 for k in range(n):
                     ss.staticSolver.loadStepStart = ts[k]
-                    try:
-                        ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
-                    except SolverError as exc:
-                        ok, detail = False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+                    for _ in range(FRICTION_ITERATIONS):
+                        try:
+                            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                        except SolverError as exc:
+                            ok = False
+                            detail = f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+                        # friction: re-solve the step until no anchor has to slip further
+                        if ok is False or not self._friction or \
+                                self._slip() < FRICTION_TOLERANCE:
+                            break
+                    else:
+                        ok, detail = False, (f" (ball-joint friction: anchors still slipping "
+                                             f"after {FRICTION_ITERATIONS} re-solves)")
                     if ok is False:
                         break
                     rows.append(self._recorded(ts[k:k + 2])[-1])

@@ -89,6 +89,7 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
         **provenance(run, exudyn_version),
         "solver": {label: m.solver for label, m in run.models.items()},
         "models": {label: m.summary() for label, m in run.models.items()},
+        "errors": run.errors,
         "static": {
             "wheel_load_N": st.wheel_load_N,
             "wheel_centre_mm": st.state.wheel_centre_mm.tolist(),

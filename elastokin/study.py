@@ -4,8 +4,9 @@ them. Exudyn stays behind :mod:`elastokin.model`; this module only sequences the
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from .comparison import model_errors, read_test_sweeps
 from .config import Suspension, suspension_from_dict
 from .identify import Identification, identify
 from .kc import (
@@ -28,6 +29,7 @@ class KCRun:
     static: StaticResult
     models: dict[str, ModelResult]
     identification: Identification | None = None
+    errors: dict[str, dict] = field(default_factory=dict)  # model -> errors against the test
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -51,6 +53,7 @@ def run_vertical_kc(suspension: Suspension,
     parallel-travel sweep of every model."""
     s = suspension
     ident = None
+    test_sweeps, test_files = read_test_sweeps(s)  # bad test files fail before any solving
     if s.measurements is not None:
         progress("identifying the geometry from CMM data")
         ident = identify(s)
@@ -81,4 +84,10 @@ def run_vertical_kc(suspension: Suspension,
         compliance = None if options.kinematic else compliance_matrix(model)
         models[label] = ModelResult(label, options.kinematic, sweeps, model.solver_settings(),
                                     compliance)
-    return KCRun(s, design, static, models, ident)
+    errors = {}
+    if test_sweeps:
+        test = ModelResult("test", False, test_sweeps,
+                           {"source": "K&C rig test data (kc_test)", "files": test_files})
+        errors = {label: model_errors(m.sweeps, test_sweeps) for label, m in models.items()}
+        models = {"test": test, **models}
+    return KCRun(s, design, static, models, ident, errors)

@@ -32,6 +32,7 @@ def case_dict() -> dict:
     the nominal model (Table 2 geometry)."""
     data = copy.deepcopy(read_yaml(CASE)[0])
     del data["measurements"]
+    data.pop("kc_test", None)
     return data
 
 

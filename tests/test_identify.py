@@ -34,8 +34,11 @@ def truth():
 
 
 def measured_copy(tmp_path, mutate_config=None):
-    """The shipped config and its measurement folder copied to ``tmp_path``."""
+    """The shipped config, its measurement folder and its K&C test folder copied to
+    ``tmp_path``."""
     shutil.copytree(MEASURED, tmp_path / MEASURED.name)
+    kc_test = CASE.parent / "pseudo_mcpherson_kc_test"
+    shutil.copytree(kc_test, tmp_path / kc_test.name)
     data = read_yaml(CASE)[0]
     if mutate_config:
         mutate_config(data)

@@ -1,0 +1,177 @@
+"""Models against K&C test data: the test files as sweeps, and the error of each model.
+
+The test files (``docs/kc_test_data.md``, per-wheel signs) become :class:`~elastokin.kc.Sweep`
+objects of the model ``test`` with the column names and signs of ``kc.csv`` (config frame:
+lateral + to the vehicle's left, aligning torque about +up), so every chart and summary treats
+them like a model. Branches are labelled as the rig sweeps them (parallel travel: ``approach``
+down to rebound, ``stroke`` up to bump, ``return``; force sweeps: ``rise``, ``fall``,
+``return``; vertical force: ``approach``, ``rise``, ``fall``).
+
+Errors (model against test) compare **changes from the static state** (each curve's value at
+input 0 on its first branch through 0), so that a static alignment offset does not hide the
+characteristic: for every test point, the model's curve of the same branch is interpolated at
+the test input; the RMS is over the test points inside the model's input range.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .config import Suspension
+from .errors import MeasurementError
+from .kc import Sweep
+
+#: test channel -> kc column (per-wheel sign -> config-frame sign applied in to_sweep)
+_COLUMNS = {
+    "wheel_travel": "wheel_travel_mm",
+    "toe": "toe_deg",
+    "camber": "camber_deg",
+    "wheel_centre_longitudinal": "wheel_centre_longitudinal_mm",
+    "wheel_centre_lateral": "wheel_centre_lateral_mm",
+    "vertical_force": "vertical_force_N",
+    "lateral_force": "lateral_force_N",
+    "longitudinal_force": "longitudinal_force_N",
+    "aligning_torque": "aligning_torque_Nmm",
+}
+#: branch names as the rig sweeps each load case (see the module docstring)
+_BRANCHES = {
+    "parallel_travel": ("approach", "stroke", "return"),
+    "vertical_force": ("approach", "rise", "fall"),
+}
+_FORCE_BRANCHES = ("rise", "fall", "return")
+
+#: the errors of the contract: name -> (load case, x column, y column)
+ERRORS = {
+    "steer_vs_travel_rms_deg": ("parallel_travel", "wheel_travel_mm", "toe_deg"),
+    "steer_vs_lateral_force_rms_deg": ("lateral_force", "lateral_force_N", "toe_deg"),
+    "longitudinal_displacement_rms_mm": ("longitudinal_force_patch", "longitudinal_force_N",
+                                         "wheel_centre_longitudinal_mm"),
+}
+
+
+def _branch_labels(load_case: str, test) -> np.ndarray:
+    names = _BRANCHES.get(load_case, _FORCE_BRANCHES)
+    x = test.input
+    labels = np.empty(x.size, dtype=object)
+    slices = list(test.branches)
+    if load_case == "parallel_travel" and slices:
+        # the stroke is the first rising branch; what comes before it is the approach
+        first_up = next((i for i, sl in enumerate(slices) if x[sl][-1] > x[sl][0]), 0)
+        names = ("approach",) * first_up + ("stroke", "return", "return")
+    for i, sl in enumerate(slices):
+        labels[sl] = names[min(i, len(names) - 1)]
+    return labels.astype(str)
+
+
+def to_sweep(test, suspension: Suspension) -> Sweep:
+    """A :class:`~elastokin.testdata.KCTest` as a sweep of the model ``test`` (kc.csv names,
+    config-frame signs)."""
+    s = suspension
+    lateral_sign = float(s.left @ s.outboard)
+    cols: dict[str, np.ndarray] = {"branch": _branch_labels(test.load_case, test)}
+    for name, values in test.channels.items():
+        col = _COLUMNS.get(name)
+        if col is None:
+            continue
+        v = np.asarray(values, float)
+        if name in ("wheel_centre_lateral", "lateral_force"):
+            v = lateral_sign * v
+        elif name == "aligning_torque":
+            v = -lateral_sign * v
+        cols[col] = v
+    return Sweep("test", test.load_case, cols)
+
+
+def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
+    """The config's ``kc_test`` files as sweeps (one per load case found) and the files read.
+    A file named in ``kc_test.files`` must exist; otherwise ``<load case>.csv`` is read when
+    present."""
+    from .testdata import LOAD_CASES, read_kc_test
+
+    s = suspension
+    spec = s.kc_test
+    if spec is None:
+        return [], []
+    folder = Path(s.source).parent / spec.folder
+    for case in spec.files:
+        if case not in LOAD_CASES:
+            raise MeasurementError(f"{s.source}: key 'kc_test.files.{case}': unknown load case "
+                                   f"(expected one of {', '.join(LOAD_CASES)})")
+    sweeps, files = [], []
+    for case in LOAD_CASES:
+        path = folder / spec.files.get(case, f"{case}.csv")
+        if not path.exists():
+            if case in spec.files:
+                raise MeasurementError(f"{s.source}: key 'kc_test.files.{case}': file {path} "
+                                       "does not exist")
+            continue
+        test = read_kc_test(path)
+        if test.load_case != case:
+            raise MeasurementError(f"{path}: holds load case '{test.load_case}', but the "
+                                   f"config reads it as '{case}'")
+        sweeps.append(to_sweep(test, s))
+        files.append(str(path))
+    if not sweeps:
+        raise MeasurementError(f"{s.source}: key 'kc_test': no K&C test file in {folder} "
+                               f"(expected <load case>.csv, e.g. parallel_travel.csv)")
+    return sweeps, files
+
+
+def _segments(sweep: Sweep, x: str, y: str):
+    """(branch, x, y) per branch in step order, the approach left out."""
+    br = sweep.columns["branch"]
+    for name in dict.fromkeys(br):
+        if name == "approach":
+            continue
+        keep = br == name
+        yield name, sweep.columns[x][keep], sweep.columns[y][keep]
+
+
+def _static_value(sweep: Sweep, x: str, y: str) -> float:
+    """y at x = 0 on the first branch that passes 0, or starts one step from it (a rig
+    sweep's first step is already loaded); else the first row."""
+    xs, ys = sweep.columns[x], sweep.columns[y]
+    br = sweep.columns["branch"]
+    for name in dict.fromkeys(br):
+        keep = br == name
+        xb, yb = xs[keep], ys[keep]
+        if xb.size < 2:
+            continue
+        step = 1.01 * float(np.median(np.abs(np.diff(xb))))
+        if xb.min() - step <= 0.0 <= xb.max() + step:
+            order = np.argsort(xb)
+            return float(np.interp(0.0, xb[order], yb[order]))
+    return float(ys[0])
+
+
+def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
+    """RMS of (model - test) changes from the static state, branch by branch (see the module
+    docstring); None when a column is missing or no test point lies in the model's range."""
+    for sw in (model, test):
+        if x not in sw.columns or y not in sw.columns:
+            return None
+    y0m, y0t = _static_value(model, x, y), _static_value(test, x, y)
+    model_branches = {name: (xb, yb) for name, xb, yb in _segments(model, x, y)}
+    residuals = []
+    for name, xt, yt in _segments(test, x, y):
+        if name not in model_branches:
+            continue
+        xm, ym = model_branches[name]
+        order = np.argsort(xm)
+        xm, ym = xm[order], ym[order]
+        inside = (xt >= xm[0]) & (xt <= xm[-1])
+        residuals.append((np.interp(xt[inside], xm, ym) - y0m) - (yt[inside] - y0t))
+    r = np.concatenate(residuals) if residuals else np.empty(0)
+    return float(np.sqrt(np.mean(r ** 2))) if r.size else None
+
+
+def model_errors(model_sweeps: list[Sweep], test_sweeps: list[Sweep]) -> dict[str, float | None]:
+    """The contract's errors of one model against the test (:data:`ERRORS`)."""
+    out = {}
+    for name, (case, x, y) in ERRORS.items():
+        m = next((sw for sw in model_sweeps if sw.load_case == case), None)
+        t = next((sw for sw in test_sweeps if sw.load_case == case), None)
+        out[name] = None if m is None or t is None else curve_error_rms(m, t, x, y)
+    return out
