@@ -64,18 +64,20 @@ def main() -> None:
                    "the run succeeds, untouched when it fails.")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
-    """Run the virtual K&C rig: static equilibrium under the design wheel load and parallel
-    wheel travel, for the initial model (and its kinematic counterpart).
+    """Run the virtual K&C rig: static equilibrium under the design wheel load and every
+    load case of the config's rig, for each model (initial and identified with CMM data), and
+    compare them with the config's K&C test data (kc_test).
 
     Writes kc.csv (one row per model, load case and step; units in column names),
-    summary.json (steer amplitude, bump steer, Table-3 style bushing deflections, provenance)
-    and steer_vs_travel.png/.svg.
+    summary.json (characteristics, errors against the test, Table-3 style bushing
+    deflections, provenance), the charts (PNG + SVG) and a self-contained report.html.
     """
     from tqdm import tqdm
 
     from .config import load_suspension
     from .model import EXUDYN_VERSION
     from .plotting import kc_charts
+    from .report import write_report
     from .results import (
         provenance,
         summary_dict,
@@ -105,9 +107,11 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
                 if run.identification is not None:
                     write_identification(tmp, run.identification, prov)
                     files += ["identification.json", "identification.txt"]
-                files += [p.name for p in kc_charts(sweeps, tmp, prov)]
+                charts = kc_charts(sweeps, tmp, prov)
+                files += [p.name for p in charts] + ["report.html"]
                 summary = summary_dict(run, EXUDYN_VERSION, files)
                 write_summary(tmp / "summary.json", summary)
+                write_report(tmp / "report.html", summary, charts)
     except ElastokinError as exc:
         _fail(str(exc))
     if not quiet:

@@ -60,8 +60,12 @@ def _branch_labels(load_case: str, test) -> np.ndarray:
         # the stroke is the first rising branch; what comes before it is the approach
         first_up = next((i for i, sl in enumerate(slices) if x[sl][-1] > x[sl][0]), 0)
         names = ("approach",) * first_up + ("stroke", "return", "return")
-    for i, sl in enumerate(slices):
-        labels[sl] = names[min(i, len(names) - 1)]
+    # a turning point belongs to the branch it ends (as the model's sweeps label it) ...
+    for i in reversed(range(len(slices))):
+        labels[slices[i]] = names[min(i, len(names) - 1)]
+    # ... except that the travel stroke starts at the rebound point
+    if load_case == "parallel_travel" and names[0] == "approach":
+        labels[slices[0].stop - 1] = "stroke"
     return labels.astype(str)
 
 

@@ -390,6 +390,20 @@ class SuspensionModel:
                                             [0.0, 0.0, 0.0, *e["anchor"].tolist()])
         return worst
 
+    def _friction_active(self, on: bool) -> None:
+        for e in self._friction.values():
+            k = e["k"] if on else 0.0
+            self.mbs.SetObjectParameter(e["object"], "stiffness",
+                                        np.diag([0.0, 0.0, 0.0, k, k, k]))
+
+    def _friction_at_rest(self) -> None:
+        """Anchor every friction element at its current rotation (no stick torque)."""
+        ovt = exu.OutputVariableType
+        for e in self._friction.values():
+            e["anchor"] = np.asarray(self.mbs.GetObjectOutput(e["object"], ovt.Rotation), float)
+            self.mbs.SetObjectParameter(e["object"], "offset",
+                                        [0.0, 0.0, 0.0, *e["anchor"].tolist()])
+
     def _reset_friction(self) -> None:
         for e in self._friction.values():
             e["anchor"] = np.zeros(3)
@@ -516,10 +530,18 @@ class SuspensionModel:
                 pad_z_mm = refine(np.asarray(pad_z_mm, float)[:, None], [[0.0]])[:, 0]
             states = self.run(pad_z_mm, pl, cl, what, solve_per_step, substeps=1)
             return states[substeps - 1::substeps]
-        ts = np.linspace(0.0, 1.0, n + 1)
-        if self._friction:
+        settle = bool(self._friction)
+        if settle:
+            # the rig starts from the settled suspension: a first step to the path's start
+            # (pad at the design height, or the first pad load) with friction released, then
+            # every ball joint at rest there (no stick torque); that step is not returned
             solve_per_step = True
             self._reset_friction()
+            if pad_z_mm is not None:
+                pad_z_mm = np.r_[0.0, np.asarray(pad_z_mm, float)]
+            pl, cl = np.vstack([pl[:1], pl]), np.vstack([np.zeros((1, 6)), cl])
+            n += 1
+        ts = np.linspace(0.0, 1.0, n + 1)
         # every path starts from the design state at t = 0 (offset 0, loads of the first step)
         pad_path = np.vstack([pl[:1], pl])
         centre_path = np.vstack([cl[:1], cl])
@@ -555,6 +577,21 @@ class SuspensionModel:
             try:
                 for k in range(n):
                     ss.staticSolver.loadStepStart = ts[k]
+                    if settle and k == 0:
+                        self._friction_active(False)
+                        try:
+                            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                        except SolverError as exc:
+                            ok = False
+                            detail = f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+                        self._friction_active(True)
+                        if ok is False:
+                            break
+                        self._friction_at_rest()
+                        rows.append(self._recorded(ts[k:k + 2])[-1])
+                        mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
+                                                          initial)
+                        continue
                     for _ in range(FRICTION_ITERATIONS):
                         try:
                             ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
@@ -582,7 +619,8 @@ class SuspensionModel:
                 f"{self.suspension.solver.max_newton_iterations} iterations){detail}; check the "
                 "geometry and the loads, or the solver settings")
         pad_applied = pad_path[1:]
-        return [self._state(row, pad_applied[i], active) for i, row in enumerate(rows)]
+        states = [self._state(row, pad_applied[i], active) for i, row in enumerate(rows)]
+        return states[1:] if settle else states
 
     def _recorded(self, ts: np.ndarray) -> list[dict[str, np.ndarray]]:
         """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive

@@ -111,8 +111,26 @@ def real_suspension_model(suspension: Suspension, seed: int | None = None):
         bushings.append(b)
     real = dataclasses.replace(built.suspension, bushings=tuple(bushings),
                                source=f"{s.source} (synthetic real suspension)")
-    # the as-built design loads: the new laws give new initial deflections, same equilibrium
-    return SuspensionModel(real, ModelOptions(), bushing_preload=built.bushing_preload,
+    # each real bushing carries, at the as-built static equilibrium (what the CMM measured),
+    # the as-built bushing's load there: the same state is the real suspension's equilibrium
+    from .kc import static_equilibrium
+
+    reference = SuspensionModel(built.suspension, ModelOptions(),
+                                bushing_preload=built.bushing_preload,
+                                spring_force_N=built.spring_force_N)
+    settled = static_equilibrium(reference).state
+    preload = dict(built.bushing_preload)
+    for b in real.bushings:
+        if b.name in spec.bushings:
+            u0 = np.array([law.deflection_at(f) for law, f in
+                           zip(reference.suspension.bushings[[x.name for x in
+                               reference.suspension.bushings].index(b.name)].laws,
+                               built.bushing_preload[b.name])])
+            change = settled.bushing_deflection[b.name] - u0  # design -> static, geometric
+            at_static = np.array([law.deflection_at(f) for law, f in
+                                  zip(b.laws, settled.bushing_load[b.name])])
+            preload[b.name] = np.array([law(u) for law, u in zip(b.laws, at_static - change)])
+    return SuspensionModel(real, ModelOptions(), bushing_preload=preload,
                            spring_force_N=built.spring_force_N,
                            joint_friction_Nmm=spec.ball_joint_friction_Nmm,
                            presliding_deg=spec.presliding_deg, substeps=spec.substeps)

@@ -1,0 +1,108 @@
+"""``report.html``: one self-contained page (charts embedded as PNG data, no external files or
+scripts) with the characteristics and errors of every model, the static equilibrium and the
+provenance of every number (versions, config hash, solver settings, test files)."""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+from pathlib import Path
+
+#: summary keys shown in the characteristics table: key -> (label, unit, format)
+ROWS = {
+    "steer_amplitude_deg": ("steer amplitude over the travel stroke", "deg", ".4f"),
+    "bump_steer_deg_per_m": ("bump steer (+-50 mm)", "deg/m", ".3f"),
+    "bump_camber_deg_per_m": ("bump camber", "deg/m", ".3f"),
+    "wheel_rate_N_per_mm": ("wheel rate", "N/mm", ".2f"),
+    "lateral_compliance_steer_deg_per_kN": ("lateral compliance steer", "deg/kN", ".4f"),
+    "lateral_compliance_camber_deg_per_kN": ("lateral compliance camber", "deg/kN", ".4f"),
+    "lateral_compliance_mm_per_kN": ("lateral wheel-centre compliance", "mm/kN", ".3f"),
+    "longitudinal_compliance_mm_per_kN": ("longitudinal compliance (braking)", "mm/kN", ".3f"),
+    "longitudinal_compliance_steer_deg_per_kN": ("longitudinal compliance steer", "deg/kN",
+                                                 ".4f"),
+    "traction_compliance_mm_per_kN": ("traction compliance", "mm/kN", ".3f"),
+    "traction_compliance_steer_deg_per_kN": ("traction compliance steer", "deg/kN", ".4f"),
+    "aligning_torque_compliance_steer_deg_per_kNm": ("aligning-torque compliance steer",
+                                                     "deg/kNm", ".4f"),
+}
+ERROR_ROWS = {
+    "steer_vs_travel_rms_deg": ("steer vs travel (Fig. 9a)", "deg", ".4f"),
+    "steer_vs_lateral_force_rms_deg": ("steer vs lateral force (Fig. 9b)", "deg", ".4f"),
+    "longitudinal_displacement_rms_mm": ("longitudinal displacement vs force (Fig. 9c)", "mm",
+                                         ".3f"),
+}
+
+_CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;
+text-align:right}th:first-child,td:first-child{text-align:left}figure{display:inline-block;
+margin:0.5em;width:47%}figure img{width:100%}pre{background:#f4f4f4;padding:0.5em;
+overflow-x:auto;font-size:85%}.note{color:#555;font-size:90%}"""
+
+
+def _fmt(v, fmt: str) -> str:
+    return "&ndash;" if v is None else format(v, fmt)
+
+
+def _table(header: list[str], rows: list[list[str]]) -> str:
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _image(path: Path) -> str:
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (f'<figure><img alt="{html.escape(path.stem)}" src="data:image/png;base64,{data}">'
+            f"<figcaption>{html.escape(path.name)}</figcaption></figure>")
+
+
+def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
+    """Write ``report.html`` from ``summary.json``'s content and the PNG charts."""
+    models = summary["models"]
+    labels = list(models)
+    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>elastokin K&amp;C "
+             f"report: {html.escape(summary['config_file'])}</title><style>{_CSS}</style>"
+             "</head><body>",
+             f"<h1>K&amp;C report: {html.escape(summary['config_file'])}</h1>",
+             f"<p class='note'>elastokin {summary['elastokin_version']}, Exudyn "
+             f"{summary['exudyn_version']}, config sha256 <code>{summary['config_sha256']}"
+             "</code>. Units mm, N, N&middot;mm, deg; signs ISO 8855 (see summary.json "
+             "<code>sign_conventions</code>).</p>"]
+    if "test" in models:
+        parts.append("<p class='note'>The <b>test</b> curves are the K&amp;C test files of the "
+                     "config (for the shipped case study: SYNTHETIC data, see the README).</p>")
+    parts.append("<h2>Characteristics</h2>")
+    rows = [[f"{html.escape(label)} [{unit}]", *(_fmt(models[m].get(key), fmt) for m in labels)]
+            for key, (label, unit, fmt) in ROWS.items()]
+    parts.append(_table(["characteristic", *labels], rows))
+    refs = summary.get("reference", {}).get("steer_amplitude_deg", {})
+    if refs:
+        parts.append("<p class='note'>Reference steer amplitude (deg, "
+                     f"{html.escape(summary['static'].get('reference_source', ''))}): "
+                     + ", ".join(f"{html.escape(k)} {v:g}" for k, v in refs.items()) + "</p>")
+    errors = summary.get("errors") or {}
+    if errors:
+        parts.append("<h2>Errors against the test</h2><p class='note'>RMS of the model's "
+                     "change from its static state minus the test's, branch by branch, at the "
+                     "test points.</p>")
+        err_labels = list(errors)
+        rows = [[f"{html.escape(label)} [{unit}]",
+                 *(_fmt(errors[m].get(key), fmt) for m in err_labels)]
+                for key, (label, unit, fmt) in ERROR_ROWS.items()]
+        parts.append(_table(["RMS error", *err_labels], rows))
+    st = summary["static"]
+    parts.append(f"<h2>Static equilibrium under {st['wheel_load_N']:g} N</h2>")
+    rows = [[html.escape(n), f"{b['radial_mm']:.3f}", f"{b['axial_mm']:.3f}",
+             f"{b['torsion_deg']:.4f}", html.escape(", ".join(
+                 f"{k} {v:g}" for k, v in b.get("reference", {}).items()))]
+            for n, b in st["bushings"].items()]
+    parts.append(_table(["bushing", "radial mm", "axial mm", "torsion deg", "reference"], rows))
+    parts.append("<h2>Charts</h2>")
+    parts += [_image(p) for p in charts if p.suffix == ".png"]
+    parts.append("<h2>Provenance and solver settings</h2><pre>"
+                 + html.escape(json.dumps({k: summary[k] for k in (
+                     "elastokin_version", "exudyn_version", "config_file", "config_sha256",
+                     "units", "solver") if k in summary}, indent=2)) + "</pre>")
+    parts.append("</body></html>\n")
+    path.write_text("".join(parts), encoding="utf-8")
+    return path
