@@ -256,7 +256,7 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     click.echo("\n".join(written))
 
 
-from . import cli_adams  # noqa: E402,F401  (registers import-adams / export-adams)
+from . import cli_adams, cli_doe  # noqa: E402,F401  (register import-adams / export-adams, doe)
 
 if __name__ == "__main__":  # pragma: no cover
     main()
