@@ -563,56 +563,48 @@ class SuspensionModel:
         mbs.Assemble()
         ss = self._settings(n)
         label = f"{self.suspension.source}: {what}"
-        detail = ""
-        if not solve_per_step:
+
+        def solve() -> tuple[bool, str]:
             try:
-                ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
+                return _exudyn_call(lambda: mbs.SolveStatic(ss), label) is not False, ""
             except SolverError as exc:
-                ok, detail = False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+                return False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+
+        if not solve_per_step:
+            ok, detail = solve()
             rows = self._recorded(ts)
         else:
             ss.staticSolver.numberOfLoadSteps = 1
             ss.staticSolver.loadStepDuration = 1.0 / n
-            rows, ok = [], True
+            rows, ok, detail = [], True, ""
             try:
                 for k in range(n):
                     ss.staticSolver.loadStepStart = ts[k]
-                    if settle and k == 0:
+                    if settle and k == 0:  # friction released, then at rest where it settled
                         self._friction_active(False)
-                        try:
-                            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
-                        except SolverError as exc:
-                            ok = False
-                            detail = f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+                        ok, detail = solve()
                         self._friction_active(True)
-                        if ok is False:
-                            break
-                        self._friction_at_rest()
-                        rows.append(self._recorded(ts[k:k + 2])[-1])
-                        mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
-                                                          initial)
-                        continue
-                    for _ in range(FRICTION_ITERATIONS):
-                        try:
-                            ok = _exudyn_call(lambda: mbs.SolveStatic(ss), label)
-                        except SolverError as exc:
-                            ok = False
-                            detail = f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
-                        # friction: re-solve the step until no anchor has to slip further
-                        if ok is False or not self._friction or \
-                                self._slip() < FRICTION_TOLERANCE:
-                            break
+                        if ok:
+                            self._friction_at_rest()
                     else:
-                        ok, detail = False, (f" (ball-joint friction: anchors still slipping "
-                                             f"after {FRICTION_ITERATIONS} re-solves)")
-                    if ok is False:
+                        for _ in range(FRICTION_ITERATIONS):
+                            ok, detail = solve()
+                            # friction: re-solve the step until no anchor has to slip further
+                            if not ok or not self._friction or \
+                                    self._slip() < FRICTION_TOLERANCE:
+                                break
+                        else:
+                            ok, detail = False, (f" (ball-joint friction: anchors still "
+                                                 f"slipping after {FRICTION_ITERATIONS} "
+                                                 "re-solves)")
+                    if not ok:
                         break
                     rows.append(self._recorded(ts[k:k + 2])[-1])
                     mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
                                                       initial)
             finally:
                 mbs.systemData.SetODE2Coordinates(q0, initial)
-        if ok is False or len(rows) < n:
+        if not ok or len(rows) < n:
             raise SolverError(
                 f"{label}: static solve did not converge after step {len(rows)} of {n} "
                 f"(Newton tolerance {self.suspension.solver.newton_tolerance:g}, at most "

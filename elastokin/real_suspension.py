@@ -32,7 +32,7 @@ import numpy as np
 
 from .config import RealSuspensionSpec, Suspension, SyntheticSpec
 from .errors import ConfigError
-from .kc import FORCE_CASES, Sweep, force_sweep, parallel_travel, vertical_force
+from .kc import Sweep, run_load_cases, static_equilibrium
 from .laws import DirectionLaw
 from .synthesize import as_built, clearance_shifts
 
@@ -113,19 +113,16 @@ def real_suspension_model(suspension: Suspension, seed: int | None = None):
                                source=f"{s.source} (synthetic real suspension)")
     # each real bushing carries, at the as-built static equilibrium (what the CMM measured),
     # the as-built bushing's load there: the same state is the real suspension's equilibrium
-    from .kc import static_equilibrium
-
     reference = SuspensionModel(built.suspension, ModelOptions(),
                                 bushing_preload=built.bushing_preload,
                                 spring_force_N=built.spring_force_N)
     settled = static_equilibrium(reference).state
+    as_built_laws = {b.name: b.laws for b in built.suspension.bushings}
     preload = dict(built.bushing_preload)
     for b in real.bushings:
         if b.name in spec.bushings:
             u0 = np.array([law.deflection_at(f) for law, f in
-                           zip(reference.suspension.bushings[[x.name for x in
-                               reference.suspension.bushings].index(b.name)].laws,
-                               built.bushing_preload[b.name])])
+                           zip(as_built_laws[b.name], built.bushing_preload[b.name])])
             change = settled.bushing_deflection[b.name] - u0  # design -> static, geometric
             at_static = np.array([law.deflection_at(f) for law, f in
                                   zip(b.laws, settled.bushing_load[b.name])])
@@ -138,14 +135,7 @@ def real_suspension_model(suspension: Suspension, seed: int | None = None):
 
 def run_real_suspension(suspension: Suspension, seed: int | None = None) -> list[Sweep]:
     """Every load case of the config's rig on the synthetic real suspension."""
-    model = real_suspension_model(suspension, seed)
-    rig = suspension.rig
-    sweeps = [parallel_travel(model, "test")]
-    if rig.vertical_force is not None:
-        sweeps.append(vertical_force(model, "test"))
-    sweeps += [force_sweep(model, "test", case) for case in FORCE_CASES
-               if getattr(rig, case) is not None]
-    return sweeps
+    return run_load_cases(real_suspension_model(suspension, seed), "test")
 
 
 def kc_test_channels(sweep: Sweep, suspension: Suspension) -> dict[str, np.ndarray]:
@@ -192,9 +182,10 @@ def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
     paths = []
     for sw in sweeps:
         channels = kc_test_channels(sw, s)
+        rig_input = next(iter(channels))  # the rig's set point: written without noise
         for name, values in channels.items():
-            if name in (next(iter(channels)),):
-                continue  # the input channel is the rig's set point
+            if name == rig_input:
+                continue
             sd = spec.noise.angle_deg if name in ("toe", "camber") else spec.noise.length_mm
             if sd > 0:
                 channels[name] = values + rng.normal(scale=sd, size=values.size)
