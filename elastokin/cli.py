@@ -83,21 +83,24 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
         summary_dict,
         write_identification,
         write_kc_csv,
+        write_stiffness_identification,
         write_summary,
     )
-    from .study import model_labels, run_vertical_kc
+    from .study import fits_stiffness, model_labels, run_vertical_kc
 
     out_dir = out_dir or Path("results") / config_path.stem
     try:
         suspension = load_suspension(config_path)
         labels = model_labels(suspension)
-        stages = 3 + 2 * len(labels) + (suspension.measurements is not None)
+        stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
+                  + 2 * fits_stiffness(suspension))
         with tqdm(total=stages, disable=quiet, file=sys.stderr, leave=False,
-                  bar_format="{desc:<45} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
+                  bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
             def progress(msg: str) -> None:
                 bar.set_description_str(msg)
                 bar.update(1)
-            run = run_vertical_kc(suspension, progress)
+            run = run_vertical_kc(suspension, progress,
+                                  lambda m: bar.set_description_str(m, refresh=False))
             progress("writing results")
             with _Output(out_dir) as tmp:
                 prov = provenance(run, EXUDYN_VERSION)
@@ -107,6 +110,8 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
                 if run.identification is not None:
                     write_identification(tmp, run.identification, prov)
                     files += ["identification.json", "identification.txt"]
+                if run.stiffness is not None:
+                    files += write_stiffness_identification(tmp, run.stiffness, prov)
                 charts = kc_charts(sweeps, tmp, prov)
                 files += [p.name for p in charts] + ["report.html"]
                 summary = summary_dict(run, EXUDYN_VERSION, files)
@@ -137,13 +142,13 @@ def _report(summary: dict, out_dir: Path) -> str:
         return "-" if v is None else format(v, fmt)
 
     errors = summary.get("errors", {})
-    head = f"  {'model':<20}{'steer amplitude deg':>21}{'bump steer deg/m':>18}"
+    head = f"  {'model':<22}{'steer amplitude deg':>21}{'bump steer deg/m':>18}"
     if errors:
         head += f"{'RMS error: steer/travel deg':>29}{'steer/lateral deg':>19}" \
                 f"{'long. disp. mm':>16}"
     lines.append(head)
     for label, m in summary["models"].items():
-        row = f"  {label:<20}{num(m['steer_amplitude_deg'], '.4f'):>21}" \
+        row = f"  {label:<22}{num(m['steer_amplitude_deg'], '.4f'):>21}" \
               f"{num(m['bump_steer_deg_per_m'], '.3f'):>18}"
         e = errors.get(label)
         if e:
@@ -155,6 +160,14 @@ def _report(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
+    fit = summary.get("stiffness_identification")
+    if fit:
+        lines += ["", "Bushing stiffness fitted to the test (model identified_stiffness; "
+                  f"details in {fit['file']}):"]
+        for key, v in fit["parameters"].items():
+            state = "" if v["determined"] else "  not determined"
+            lines.append(f"  {key:<26}{v['value']:>10.4g} {v['unit']:<8} 95 % "
+                         f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]{state}")
     lines.append("")
     lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
     return "\n".join(lines)
@@ -168,26 +181,46 @@ def _report(summary: dict, out_dir: Path) -> str:
               default=None, show_default="results/<config name>-identified",
               help="Folder for identified.yaml, initial.yaml, identification.json and "
                    "identification.txt; replaced as a whole when the run succeeds.")
+@click.option("--stiffness", is_flag=True,
+              help="Then fit the bushing stiffness of the identified model to the config's "
+                   "K&C test data (kc_test) and write identified_stiffness.yaml and "
+                   "stiffness_identification.json/.txt.")
 @click.option("--quiet", is_flag=True, help="No progress, no table.")
-def identify(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
+def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bool) -> None:
     """Identify the joint locations from CMM data (the reference paper's method).
 
     Reads the parts measured alone and the assembled marks, finds every part's pose, and
     writes the identified model as a config that `elastokin kc` loads (identified.yaml), the
     model built from the parts alone (initial.yaml), identification.json and a readable
-    identification.txt.
+    identification.txt. With --stiffness, also the bushing-stiffness identification against
+    the K&C test data (identified_stiffness.yaml: the identified model with the fitted laws).
     """
-    from .config import load_suspension
+    from .comparison import read_test_sweeps
+    from .config import load_suspension, suspension_from_dict
     from .identify import identify as run_identification
     from .identify import write_config
-    from .model import EXUDYN_VERSION
-    from .results import config_provenance, identification_table, write_identification
+    from .model import EXUDYN_VERSION, design_state
+    from .results import (
+        config_provenance,
+        identification_table,
+        write_identification,
+        write_stiffness_identification,
+    )
+    from .stiffness import stiffness_config
+    from .study import fit_stiffness
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
     try:
         suspension = load_suspension(config_path)
         say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
+        test = read_test_sweeps(suspension)[0] if stiffness else []
         ident = run_identification(suspension, progress=say)
+        fit = None
+        if stiffness:
+            start = suspension_from_dict(ident.identified_config,
+                                         f"{suspension.source} (identified)", suspension.sha256)
+            say("fitting bushing stiffness to the K&C test data (about a minute)")
+            fit = fit_stiffness(suspension, start, design_state(start), test)
         prov = config_provenance(suspension, EXUDYN_VERSION)
         with _Output(out_dir, marker="identification.json") as tmp:
             header = (f"elastokin {prov['elastokin_version']} (exudyn "
@@ -201,12 +234,22 @@ def identify(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
                          header.format(what="initial model (joints from the parts measured "
                                        "alone, undeflected bushings)"))
             write_identification(tmp, ident, prov)
+            files = ["identified.yaml", "initial.yaml", "identification.json",
+                     "identification.txt"]
+            if fit is not None:
+                write_config(tmp / "identified_stiffness.yaml",
+                             stiffness_config(ident.identified_config, fit),
+                             header.format(what="identified model with the bushing laws "
+                                           "fitted to the K&C test data"))
+                files += ["identified_stiffness.yaml",
+                          *write_stiffness_identification(tmp, fit, prov)]
     except ElastokinError as exc:
         _fail(str(exc))
     if not quiet:
         click.echo(identification_table(ident))
-        click.echo(f"Results in {out_dir}/: identified.yaml, initial.yaml, "
-                   "identification.json, identification.txt")
+        if fit is not None:
+            click.echo(fit.table())
+        click.echo(f"Results in {out_dir}/: " + ", ".join(files))
 
 
 @main.command()

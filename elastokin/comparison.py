@@ -42,6 +42,15 @@ _BRANCHES = {
 }
 _FORCE_BRANCHES = ("rise", "fall", "return")
 
+#: the rig input (x) column of each load case, kc.csv name
+INPUT_COLUMNS = {
+    "parallel_travel": "wheel_travel_mm",
+    "vertical_force": "vertical_force_N",
+    "lateral_force": "lateral_force_N",
+    "longitudinal_force_patch": "longitudinal_force_N",
+    "longitudinal_force_centre": "longitudinal_force_N",
+    "aligning_torque": "aligning_torque_Nmm",
+}
 #: the errors of the contract: name -> (load case, x column, y column)
 ERRORS = {
     "steer_vs_travel_rms_deg": ("parallel_travel", "wheel_travel_mm", "toe_deg"),
@@ -150,9 +159,12 @@ def _static_value(sweep: Sweep, x: str, y: str) -> float:
     return float(ys[0])
 
 
-def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
-    """RMS of (model - test) changes from the static state, branch by branch (see the module
-    docstring); None when a column is missing or no test point lies in the model's range."""
+def curve_residuals(model: Sweep, test: Sweep, x: str, y: str,
+                    clamp: bool = False) -> np.ndarray | None:
+    """(model - test) changes from the static state at the test points, branch by branch
+    (see the module docstring), in test-point order; None when a column is missing.
+    Test points outside the model's input range are left out, or with ``clamp`` compared
+    with the model's end value (a residual vector of fixed length, for fitting)."""
     for sw in (model, test):
         if x not in sw.columns or y not in sw.columns:
             return None
@@ -165,10 +177,16 @@ def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
         xm, ym = model_branches[name]
         order = np.argsort(xm)
         xm, ym = xm[order], ym[order]
-        inside = (xt >= xm[0]) & (xt <= xm[-1])
+        inside = np.ones(xt.size, bool) if clamp else (xt >= xm[0]) & (xt <= xm[-1])
         residuals.append((np.interp(xt[inside], xm, ym) - y0m) - (yt[inside] - y0t))
-    r = np.concatenate(residuals) if residuals else np.empty(0)
-    return float(np.sqrt(np.mean(r ** 2))) if r.size else None
+    return np.concatenate(residuals) if residuals else np.empty(0)
+
+
+def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
+    """RMS of (model - test) changes from the static state, branch by branch (see the module
+    docstring); None when a column is missing or no test point lies in the model's range."""
+    r = curve_residuals(model, test, x, y)
+    return float(np.sqrt(np.mean(r ** 2))) if r is not None and r.size else None
 
 
 def model_errors(model_sweeps: list[Sweep], test_sweeps: list[Sweep]) -> dict[str, float | None]:

@@ -401,12 +401,47 @@ class RealSuspensionSpec(_Strict):
     noise: KCTestNoiseSpec = KCTestNoiseSpec()
 
 
+StiffnessParameterName = Literal["translation_scale", "rotation_scale", "translation_cubic",
+                                 "rotation_cubic"]
+
+
+class StiffnessIdentificationSpec(_Strict):
+    """Bushing-stiffness identification against the K&C test data (elastokin.stiffness).
+
+    Each fitted bushing's law per direction becomes ``scale * f(u) * (1 + cubic * u^2)``
+    (f the config's law; translations x y z share one scale and one cubic, rotations
+    another); ``parameters`` picks which of the four are fitted for every bushing in
+    ``bushings`` (default: all bushings)."""
+
+    enabled: bool = True
+    bushings: list[str] | None = None
+    parameters: list[StiffnessParameterName] = ["translation_scale", "rotation_scale",
+                                                "translation_cubic"]
+    # residual weights: "range": each test curve divided by its range (every chart counts
+    # alike), "uncertainty": by the rig's uncertainty; never finer than the uncertainty
+    weighting: Literal["range", "uncertainty"] = "range"
+    residual_scale_deg: float = Field(default=0.01, gt=0)
+    residual_scale_mm: float = Field(default=0.1, gt=0)
+    # determined: 95 % confidence half-width of the stiffness effect <= this fraction
+    determined_within: float = Field(default=0.10, gt=0, lt=1)
+
+    @field_validator("parameters")
+    @classmethod
+    def _distinct(cls, v: list[str]) -> list[str]:
+        if not v:
+            raise ValueError("name at least one parameter")
+        if len(set(v)) != len(v):
+            raise ValueError("parameters must not repeat")
+        return v
+
+
 class KCTestSpec(_Strict):
     """K&C rig test data compared with every model (docs/kc_test_data.md)."""
 
     folder: str = "."  # relative to the config file
     files: dict[str, str] = {}  # load case -> file; default <load case>.csv when it exists
     synthetic: RealSuspensionSpec | None = None
+    stiffness_identification: StiffnessIdentificationSpec = StiffnessIdentificationSpec()
 
 
 class SuspensionFile(_Strict):

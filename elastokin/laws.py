@@ -8,6 +8,11 @@ deflection = f^-1(force)). A linear rate is the one-segment special case.
 The same law is written as a sum of hinge functions,
 ``f(u) = k0 * u + sum_i dk_i * max(u - u_i, 0) + c``, which the Exudyn layer turns into a
 symbolic (C++-speed) user function.
+
+:class:`ProgressiveLaw` is the family fitted by the stiffness identification
+(:mod:`elastokin.stiffness`): a config law scaled and made progressive,
+``F(u) = scale * f(u) * (1 + cubic * u^2)`` (``cubic`` in 1/mm^2 or 1/deg^2), smooth in its
+parameters and evaluated exactly (no tabulation).
 """
 
 from __future__ import annotations
@@ -91,6 +96,94 @@ class DirectionLaw:
         k0 = float(s[0])
         c = float(self.load[0] - k0 * d[0])
         return k0, c, [(float(d[i]), float(s[i] - s[i - 1])) for i in range(1, s.size)]
+
+    def expression(self, u, maxf=None):
+        """The law in hinge form, for plain floats or Exudyn symbolic reals (``maxf`` the
+        matching max function; Python's comparison by default)."""
+        maxf = maxf or _max
+        k0, c, hinges = self.hinges()
+        out = c + k0 * u
+        for ui, dk in hinges:
+            out = out + dk * maxf(u - ui, 0.0)
+        return out
+
+
+def _max(a, b):
+    return a if a > b else b
+
+
+@dataclass(frozen=True)
+class ProgressiveLaw:
+    """``F(u) = scale * base(u) * (1 + cubic * u^2)``: a config law ``base`` scaled by
+    ``scale`` (> 0) and stiffened by ``cubic`` (>= 0; 1/mm^2 for translations, 1/deg^2 for
+    rotations: the secant stiffness at deflection u is ``1 + cubic * u^2`` times the scaled
+    base's). Strictly increasing and through (0, 0) like its base, hence invertible."""
+
+    base: DirectionLaw
+    scale: float = 1.0
+    cubic: float = 0.0
+
+    def __post_init__(self):
+        if not self.scale > 0 or not np.isfinite(self.scale):
+            raise ValueError(f"scale factor must be positive, got {self.scale}")
+        if not self.cubic >= 0 or not np.isfinite(self.cubic):
+            raise ValueError(f"progression coefficient must be >= 0, got {self.cubic}")
+
+    @property
+    def rate_at_zero(self) -> float:
+        return self.scale * self.base.rate_at_zero
+
+    @property
+    def is_linear(self) -> bool:
+        return self.cubic == 0.0 and self.base.is_linear
+
+    def __call__(self, u):
+        u = np.asarray(u, float)
+        out = self.scale * np.asarray(self.base(u)) * (1.0 + self.cubic * u * u)
+        return out if out.ndim else float(out)
+
+    def deflection_at(self, load):
+        """Inverse law by bracketed Newton (bisection safeguard); array-friendly."""
+        f = np.asarray(load, float)
+        # the base law's deflection bounds |u| from above: the cubic only stiffens
+        hi = np.asarray(self.base.deflection_at(f / self.scale), float)
+        lo = np.zeros_like(hi)
+        a, b = np.minimum(lo, hi), np.maximum(lo, hi)
+        u = hi.copy()
+        for _ in range(200):
+            r = np.asarray(self(u)) - f
+            a = np.where(r < 0, u, a)
+            b = np.where(r > 0, u, b)
+            h = 1e-6 * np.maximum(1.0, np.abs(u))
+            slope = (np.asarray(self(u + h)) - np.asarray(self(u - h))) / (2 * h)
+            newton = u - r / slope
+            inside = (newton > a) & (newton < b)
+            u_next = np.where(inside, newton, 0.5 * (a + b))
+            if np.all(np.abs(u_next - u) <= 1e-13 * np.maximum(1.0, np.abs(u))):
+                u = u_next
+                break
+            u = u_next
+        return u if u.ndim else float(u)
+
+    def scaled(self, factor: float) -> ProgressiveLaw:
+        """The same curve with every load multiplied by ``factor`` (> 0)."""
+        if not factor > 0:
+            raise ValueError(f"scale factor must be positive, got {factor}")
+        return ProgressiveLaw(self.base, self.scale * factor, self.cubic)
+
+    def expression(self, u, maxf=None):
+        """The law for plain floats or Exudyn symbolic reals (see DirectionLaw.expression)."""
+        return self.scale * self.base.expression(u, maxf) * (1.0 + self.cubic * u * u)
+
+    def tabulated(self, span: float, points: int = 81) -> DirectionLaw:
+        """The curve as a piecewise-linear :class:`DirectionLaw` on ``points`` deflections
+        spaced more densely near zero, out to +-``span`` (mm or deg), linear beyond: what a
+        config or an ADAMS property file holds."""
+        if self.is_linear:
+            return DirectionLaw.linear(self.rate_at_zero)
+        half = np.linspace(0.0, 1.0, points // 2 + 1)[1:] ** 1.5 * span
+        u = np.r_[-half[::-1], 0.0, half]
+        return DirectionLaw(tuple(u.tolist()), tuple(float(x) for x in self(u)))
 
 
 def law_from_spec(spec) -> DirectionLaw:

@@ -101,6 +101,8 @@ class StepState:
     spring_force_N: dict[str, float]
     bushing_deflection: dict[str, np.ndarray]  # x y z mm, rx ry rz deg (incl. initial)
     bushing_load: dict[str, np.ndarray]  # Fx Fy Fz N, Tx Ty Tz N*mm (bushing frame)
+    #: every moving part's pose at this step (steering axis, see elastokin.steering_axis)
+    poses: PartPoses | None = None
 
 
 @dataclass
@@ -436,6 +438,12 @@ class SuspensionModel:
             for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
                                 ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
                 self._sensors[f"bushing:{name}:{key}"] = obj(e["object"], output)
+        for name, number in self.body.items():  # every part's pose (PartPoses per step)
+            for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
+                self._sensors[f"part:{name}:{key}"] = mbs.AddSensor(SensorBody(
+                    bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
+                    storeInternal=True, writeToFile=False))
+        self._pose_refs = {name: self.ref[name] for name in self.body}  # shared, read-only
 
     # ------------------------------------------------------------------ rig inputs
     def _set_path(self, kind: str, item: int, ts: np.ndarray, values: np.ndarray) -> None:
@@ -653,8 +661,10 @@ class SuspensionModel:
             else:
                 f = np.full(6, np.nan)
             defl[name], load[name] = u, f
+        poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in self.body},
+                          {n: row[f"part:{n}:disp"] for n in self.body}, self._pose_refs)
         return StepState(row["centre"], R @ self.suspension.wheel.spin_axis, R,
-                         row["patch"], pad, springs, defl, load)
+                         row["patch"], pad, springs, defl, load, poses)
 
     def balancing_bushing_loads(self) -> dict[str, np.ndarray]:
         """Balancing model: the load each bushing carries in the current state (Fx Fy Fz N,
@@ -854,19 +864,15 @@ def make_bushing_function(laws: Sequence, initial_deflection: np.ndarray, symbol
     """The bushing's 6 loads (N, N*mm) as an Exudyn ``springForceTorqueUserFunction``.
 
     Deflection in the bushing frame: displacement (mm) and Tait-Bryan rotation (rad, converted
-    to deg), plus the initial deflection; each direction's law is written with hinge functions
-    (see :mod:`elastokin.laws`), so the same closure is converted to a symbolic function.
+    to deg), plus the initial deflection; each direction's law is written in closed form (hinge
+    functions, times a polynomial for a progressive law; see :mod:`elastokin.laws`), so the
+    same closure is converted to a symbolic function.
     """
-    hinges = [law.hinges() for law in laws]
     u0 = [float(x) for x in initial_deflection]
     maxf = exu.symbolic.max if symbolic else _max
 
     def evaluate(i, v):
-        k0, c, hs = hinges[i]
-        out = c + k0 * v
-        for ui, dk in hs:
-            out = out + dk * maxf(v - ui, 0.0)
-        return out
+        return laws[i].expression(v, maxf)
 
     def bushing_loads(mbs, t, itemNumber, displacement, rotation, velocity, angularVelocity,
                       stiffness, damping, rotJ0, rotJ1, offset):

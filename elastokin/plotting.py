@@ -11,6 +11,7 @@ STYLE = {
     "initial": {"color": "tab:blue", "linestyle": "-"},
     "identified": {"color": "tab:red", "linestyle": "-"},
     "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
+    "identified_stiffness": {"color": "tab:green", "linestyle": "--"},
 }
 
 

@@ -90,6 +90,23 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
                  *(_fmt(errors[m].get(key), fmt) for m in err_labels)]
                 for key, (label, unit, fmt) in ERROR_ROWS.items()]
         parts.append(_table(["RMS error", *err_labels], rows))
+    fit = summary.get("stiffness_identification")
+    if fit:
+        parts.append("<h2>Bushing-stiffness identification</h2><p class='note'>Model "
+                     "<b>identified_stiffness</b>: per fitted bushing F(u) = scale &middot; "
+                     "f<sub>config</sub>(u) &middot; (1 + cubic &middot; u&sup2;), fitted to the "
+                     "test data by least squares (details, correlations and the residuals in "
+                     f"{html.escape(fit['file'])}). Condition number "
+                     f"{fit['condition_number']:.3g}.</p>")
+        rows = [[html.escape(k), f"{v['value']:.4g}", html.escape(v["unit"]),
+                 f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]",
+                 "yes" if v["determined"] else "no"]
+                for k, v in fit["parameters"].items()]
+        parts.append(_table(["parameter", "value", "unit", "95 % interval", "determined"],
+                            rows))
+        if fit["warnings"]:
+            parts.append("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in fit["warnings"])
+                         + "</ul>")
     st = summary["static"]
     parts.append(f"<h2>Static equilibrium under {st['wheel_load_N']:g} N</h2>")
     rows = [[html.escape(n), f"{b['radial_mm']:.3f}", f"{b['axial_mm']:.3f}",

@@ -105,6 +105,8 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
                                       run.design.bushing_preload.items()},
         },
         "reference": {"steer_amplitude_deg": ref.steer_amplitude_deg},
+        **({"stiffness_identification": stiffness_summary(run.stiffness)}
+           if run.stiffness is not None else {}),
         "sign_conventions": SIGN_CONVENTIONS,
         "files": files,
     }
@@ -178,3 +180,24 @@ def write_identification(folder: Path, ident, prov: dict) -> None:
     (folder / "identification.json").write_text(
         json.dumps(identification_dict(ident, prov), indent=2) + "\n")
     (folder / "identification.txt").write_text(identification_table(ident))
+
+
+def stiffness_summary(fit) -> dict:
+    """The stiffness identification in ``summary.json`` (details in
+    ``stiffness_identification.json``)."""
+    return {
+        "parameters": {f"{p.bushing}.{p.name}": {
+            "value": p.value, "unit": p.unit, "ci95": list(p.ci95),
+            "determined": p.determined} for p in fit.parameters},
+        "condition_number": fit.condition_number,
+        "warnings": fit.warnings,
+        "file": "stiffness_identification.json",
+    }
+
+
+def write_stiffness_identification(folder: Path, fit, prov: dict) -> list[str]:
+    """``stiffness_identification.json`` (with provenance) and ``.txt``; returns the names."""
+    (folder / "stiffness_identification.json").write_text(
+        json.dumps({**prov, **fit.to_json()}, indent=2) + "\n")
+    (folder / "stiffness_identification.txt").write_text(fit.table())
+    return ["stiffness_identification.json", "stiffness_identification.txt"]

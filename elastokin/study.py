@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 from .comparison import model_errors, read_test_sweeps
 from .config import Suspension, suspension_from_dict
+from .errors import ConfigError
 from .identify import Identification, identify
 from .kc import (
     ModelResult,
@@ -16,7 +17,9 @@ from .kc import (
     run_load_cases,
     static_equilibrium,
 )
-from .model import DesignState, ModelOptions, build_model, design_state
+from .model import DesignState, ModelOptions, SuspensionModel, build_model, design_state
+from .real_suspension import hidden_stiffness
+from .stiffness import StiffnessFit, identify_stiffness
 
 
 @dataclass
@@ -30,6 +33,7 @@ class KCRun:
     models: dict[str, ModelResult]
     identification: Identification | None = None
     errors: dict[str, dict] = field(default_factory=dict)  # model -> errors against the test
+    stiffness: StiffnessFit | None = None  # bushing-stiffness identification, with test data
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -47,10 +51,36 @@ def model_labels(suspension: Suspension) -> list[str]:
     return ["initial"]
 
 
+def fits_stiffness(suspension: Suspension) -> bool:
+    """True when ``elastokin kc`` adds the ``identified_stiffness`` model: K&C test data,
+    bushings, a compliant model and ``kc_test.stiffness_identification.enabled``."""
+    s = suspension
+    return (s.kc_test is not None and s.kc_test.stiffness_identification.enabled
+            and bool(s.bushings) and not s.kinematic)
+
+
+def fit_stiffness(suspension: Suspension, start: Suspension, design: DesignState,
+                  test: list, detail: Callable[[str], None] = lambda msg: None) -> StiffnessFit:
+    """The bushing-stiffness identification of the config ``suspension`` (its
+    ``kc_test.stiffness_identification``; the synthetic truth, if any, for the report only),
+    starting from the model ``start`` with the preloads of ``design``."""
+    s = suspension
+    if not fits_stiffness(s):
+        raise ConfigError(f"{s.source}: stiffness identification needs a 'kc_test' section "
+                          "with K&C test files, bushings, a compliant model (kinematic: false) "
+                          "and kc_test.stiffness_identification.enabled: true")
+    return identify_stiffness(start, design, test, s.kc_test.stiffness_identification, detail,
+                              hidden=hidden_stiffness(s))
+
+
 def run_vertical_kc(suspension: Suspension,
-                    progress: Callable[[str], None] = lambda msg: None) -> KCRun:
-    """Identification (with measurements), design preloads, the static equilibrium and the
-    parallel-travel sweep of every model."""
+                    progress: Callable[[str], None] = lambda msg: None,
+                    detail: Callable[[str], None] = lambda msg: None) -> KCRun:
+    """Identification (with measurements), design preloads, the static equilibrium and every
+    load case of every model; with K&C test data, the errors of each model and (see
+    :func:`fits_stiffness`) the bushing-stiffness identification, whose model
+    ``identified_stiffness`` starts from the static model (identified, else initial).
+    ``progress`` is called once per stage, ``detail`` for steps within one."""
     s = suspension
     ident = None
     test_sweeps, test_files = read_test_sweeps(s)  # bad test files fail before any solving
@@ -71,6 +101,14 @@ def run_vertical_kc(suspension: Suspension,
     designs: dict[int, DesignState] = {}
     static = design = None
     models = {}
+
+    def run_model(label: str, model: SuspensionModel, kinematic: bool) -> None:
+        progress(f"model '{label}': K&C load cases")
+        sweeps = run_load_cases(model, label)
+        compliance = None if kinematic else compliance_matrix(model)
+        models[label] = ModelResult(label, kinematic, sweeps, model.solver_settings(),
+                                    compliance)
+
     for label, (susp, options) in variants.items():
         progress(f"model '{label}': building")
         if id(susp) not in designs:
@@ -79,15 +117,19 @@ def run_vertical_kc(suspension: Suspension,
         if label == static_label:
             progress("static equilibrium")
             static, design = static_equilibrium(model), designs[id(susp)]
-        progress(f"model '{label}': K&C load cases")
-        sweeps = run_load_cases(model, label)
-        compliance = None if options.kinematic else compliance_matrix(model)
-        models[label] = ModelResult(label, options.kinematic, sweeps, model.solver_settings(),
-                                    compliance)
+        run_model(label, model, options.kinematic)
+    fit = None
+    if test_sweeps and fits_stiffness(s):
+        progress("identifying bushing stiffness from the K&C test data")
+        fit = fit_stiffness(s, variants[static_label][0], design, test_sweeps, detail)
+        model = SuspensionModel(fit.suspension, ModelOptions(),
+                                bushing_preload=design.bushing_preload,
+                                spring_force_N=design.spring_force_N)
+        run_model("identified_stiffness", model, False)
     errors = {}
     if test_sweeps:
         test = ModelResult("test", False, test_sweeps,
                            {"source": "K&C rig test data (kc_test)", "files": test_files})
         errors = {label: model_errors(m.sweeps, test_sweeps) for label, m in models.items()}
         models = {"test": test, **models}
-    return KCRun(s, design, static, models, ident, errors)
+    return KCRun(s, design, static, models, ident, errors, fit)

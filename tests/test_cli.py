@@ -61,7 +61,7 @@ def test_kc_csv_long_format(kc_out):
     assert lines[0].startswith("# elastokin_version")
     rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
     models = {r["model"] for r in rows}
-    assert models == {"test", "initial", "identified"}
+    assert models == {"test", "initial", "identified", "identified_stiffness"}
     stroke = [r for r in rows if r["model"] == "initial" and r["branch"] == "stroke"]
     assert len(stroke) == 181  # -90 .. +90 mm at 1 mm
     for col in ("wheel_travel_mm", "wheel_centre_x_mm", "wheel_centre_y_mm",
