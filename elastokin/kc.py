@@ -13,9 +13,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .characteristics import (
+    caster_deg,
+    caster_trail_mm,
+    contact_point,
+    kingpin_inclination_deg,
+    scrub_radius_mm,
+)
 from .config import ForceSweepSpec, Suspension, TorqueSweepSpec, TravelSpec, VerticalForceSpec
 from .geometry import camber_deg, slope, toe_deg
 from .model import StepState, SuspensionModel
+from .steering_axis import steering_axes_from_poses, steering_skeleton
 
 #: half-width of the travel window over which bump steer is fitted (mm)
 BUMP_STEER_WINDOW_MM = 50.0
@@ -84,6 +92,7 @@ def characteristics(states: list[StepState], suspension: Suspension,
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
     }
+    cols.update(steering_axis_columns(states, s))
     for name in states[0].spring_force_N:
         cols[f"spring_{name}_force_N"] = np.array([st.spring_force_N[name] for st in states])
     units = ("mm", "mm", "mm", "deg", "deg", "deg")
@@ -92,6 +101,65 @@ def characteristics(states: list[StepState], suspension: Suspension,
         for i, (d, unit) in enumerate(zip(("x", "y", "z", "rx", "ry", "rz"), units)):
             cols[f"bushing_{name}_{d}_{unit}"] = u[:, i]
     return cols
+
+
+#: steering-axis columns of kc.csv and the summary (docs/characteristics.md)
+STEERING_AXIS_COLUMNS = ("caster_deg", "kingpin_inclination_deg", "scrub_radius_mm",
+                         "caster_trail_mm")
+
+
+class SteeringAxisWarning(UserWarning):
+    """The steering axis is undefined at some steps (NaN columns); the message says why."""
+
+
+def steering_axis_columns(states: list[StepState], suspension: Suspension) -> dict[str,
+                                                                                  np.ndarray]:
+    """Caster (deg), kingpin inclination (deg), scrub radius (mm) and caster trail (mm) per
+    step: the steering axis is the wheel part's instantaneous screw axis under a small steering
+    input with the springs locked (:mod:`elastokin.steering_axis`), the ground plane the plane
+    normal to ``up`` through the contact point of the wheel (loaded radius below the centre in
+    the wheel plane). NaN where the axis is undefined, with a :class:`SteeringAxisWarning`."""
+    s = suspension
+    centre = np.array([st.wheel_centre_mm for st in states])
+    spin = np.array([st.spin_axis for st in states])
+    axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
+    d, p = axes.direction.copy(), axes.point
+    d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
+    if axes.reason is not None or np.isnan(d).any():
+        import warnings
+
+        bad = int(np.isnan(d).any(axis=1).sum())
+        warnings.warn(SteeringAxisWarning(
+            f"{s.source}: steering axis undefined at {bad} of {len(states)} steps (NaN "
+            f"caster, kingpin inclination, scrub radius, caster trail): "
+            f"{axes.reason or 'horizontal axis'}"), stacklevel=2)
+    contact = contact_point(centre, spin, s.wheel.loaded_radius_mm, s.up)
+    return {
+        "caster_deg": caster_deg(d, s.forward, s.up),
+        "kingpin_inclination_deg": kingpin_inclination_deg(d, s.outboard, s.up),
+        "scrub_radius_mm": scrub_radius_mm(p, d, contact, spin, s.forward, s.outboard, s.up),
+        "caster_trail_mm": caster_trail_mm(p, d, contact, spin, s.forward, s.outboard, s.up),
+    }
+
+
+def static_row_value(sweep: Sweep, name: str) -> float | None:
+    """``name`` at the static state of a parallel-travel sweep: the rig pad at the design
+    height (``pad_z_mm`` = 0) on the measured stroke, interpolated linearly when no step lands
+    on it. With a balanced design (``design.balance_spring``) the pad carries the design
+    wheel load there, i.e. this is the static equilibrium under the design wheel load. None
+    when the column is missing, undefined there (NaN) or 0 is outside the stroke."""
+    if name not in sweep.columns or "pad_z_mm" not in sweep.columns:
+        return None
+    z, y = sweep.stroke("pad_z_mm").astype(float), sweep.stroke(name).astype(float)
+    hit = np.flatnonzero(z == 0.0)
+    if hit.size:
+        value = float(y[hit[0]])
+    else:
+        order = np.argsort(z)
+        if z.size < 2 or not z[order[0]] < 0.0 < z[order[-1]]:
+            return None
+        value = float(np.interp(0.0, z[order], y[order]))
+    return value if np.isfinite(value) else None
 
 
 def parallel_travel(model: SuspensionModel, label: str, spec: TravelSpec | None = None) -> Sweep:
@@ -303,6 +371,9 @@ class ModelResult:
         out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
                "bump_steer_deg_per_m": bump_steer_deg_per_m(travel) if has_toe else None,
                "kinematic": self.kinematic}
+        # steering axis at the static state (design pad height, design wheel load)
+        for name in STEERING_AXIS_COLUMNS:
+            out[name] = static_row_value(travel, name) if travel is not None else None
         for name, (case, x, y, scale) in GRADIENTS.items():
             sw = self.sweep(case)
             ok = sw is not None and x in sw.columns and y in sw.columns
