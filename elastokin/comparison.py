@@ -22,6 +22,7 @@ import numpy as np
 from .config import Suspension
 from .errors import MeasurementError
 from .kc import Sweep
+from .testdata import LOAD_CASES
 
 #: test channel -> kc column (per-wheel sign -> config-frame sign applied in to_sweep)
 _COLUMNS = {
@@ -42,15 +43,8 @@ _BRANCHES = {
 }
 _FORCE_BRANCHES = ("rise", "fall", "return")
 
-#: the rig input (x) column of each load case, kc.csv name
-INPUT_COLUMNS = {
-    "parallel_travel": "wheel_travel_mm",
-    "vertical_force": "vertical_force_N",
-    "lateral_force": "lateral_force_N",
-    "longitudinal_force_patch": "longitudinal_force_N",
-    "longitudinal_force_centre": "longitudinal_force_N",
-    "aligning_torque": "aligning_torque_Nmm",
-}
+#: the rig input (x) column of each load case, kc.csv name (the test format's input channel)
+INPUT_COLUMNS = {name: _COLUMNS[case.input] for name, case in LOAD_CASES.items()}
 #: the errors of the contract: name -> (load case, x column, y column)
 ERRORS = {
     "steer_vs_travel_rms_deg": ("parallel_travel", "wheel_travel_mm", "toe_deg"),
@@ -101,7 +95,7 @@ def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
     """The config's ``kc_test`` files as sweeps (one per load case found) and the files read.
     A file named in ``kc_test.files`` must exist; otherwise ``<load case>.csv`` is read when
     present."""
-    from .testdata import LOAD_CASES, read_kc_test
+    from .testdata import read_kc_test
 
     s = suspension
     spec = s.kc_test

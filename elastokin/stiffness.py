@@ -145,6 +145,12 @@ def with_stiffness(suspension: Suspension, values: dict[str, dict[str, float]]) 
     return dataclasses.replace(suspension, bushings=bushings)
 
 
+def stiffness_model(suspension: Suspension, design: DesignState) -> SuspensionModel:
+    """The compliant model of ``suspension`` (fitted laws) carrying the loads of ``design``."""
+    return SuspensionModel(suspension, ModelOptions(), bushing_preload=design.bushing_preload,
+                           spring_force_N=design.spring_force_N)
+
+
 def parameters(suspension: Suspension, spec: StiffnessIdentificationSpec,
                key: str = "kc_test.stiffness_identification") -> list[Parameter]:
     """The fitted parameters of a config's spec (bushing order of the config)."""
@@ -190,9 +196,7 @@ class Residuals:
         self.evaluations = 0
 
     def model(self, values: dict[str, dict[str, float]]) -> SuspensionModel:
-        return SuspensionModel(with_stiffness(self.suspension, values), ModelOptions(),
-                               bushing_preload=self.design.bushing_preload,
-                               spring_force_N=self.design.spring_force_N)
+        return stiffness_model(with_stiffness(self.suspension, values), self.design)
 
     def sweeps(self, values: dict[str, dict[str, float]]) -> list[Sweep]:
         self.evaluations += 1
@@ -202,34 +206,33 @@ class Residuals:
         x = INPUT_COLUMNS[test.load_case]
         return [c for c in CHANNELS if c != x and c in test.columns]
 
-    def vector(self, sweeps: list[Sweep]) -> np.ndarray:
-        """All residuals, divided by their channel's scale (the fit's objective)."""
+    def _curves(self, sweeps: list[Sweep], clamp: bool):
+        """(load case, channel, unweighted residuals) per test curve the sweeps answer."""
         by_case = {sw.load_case: sw for sw in sweeps}
-        parts = []
-        self.blocks: list[int] = []  # residuals per curve, in vector order
         for t in self.test:
             m = by_case.get(t.load_case)
-            if m is None:
-                continue
-            for c in self.channels(t):
-                r = curve_residuals(m, t, INPUT_COLUMNS[t.load_case], c, clamp=True)
+            for c in self.channels(t) if m is not None else []:
+                r = curve_residuals(m, t, INPUT_COLUMNS[t.load_case], c, clamp=clamp)
                 if r is not None:
-                    # a free offset per curve (the mean) instead of the test's static
-                    # value: one noisy test point must not shift a whole curve
-                    parts.append((r - r.mean()) / self.scale[(t.load_case, c)])
-                    self.blocks.append(r.size)
+                    yield t.load_case, c, r
+
+    def vector(self, sweeps: list[Sweep]) -> np.ndarray:
+        """All residuals, divided by their curve's scale (the fit's objective)."""
+        parts = []
+        self.blocks: list[int] = []  # residuals per curve, in vector order
+        for case, c, r in self._curves(sweeps, clamp=True):
+            # a free offset per curve (the mean) instead of the test's static value: one
+            # noisy test point must not shift a whole curve
+            parts.append((r - r.mean()) / self.scale[(case, c)])
+            self.blocks.append(r.size)
         return np.concatenate(parts)
 
     def rms(self, sweeps: list[Sweep]) -> dict[str, dict[str, float]]:
         """RMS of the unweighted residuals per load case and channel (deg or mm)."""
-        by_case = {sw.load_case: sw for sw in sweeps}
         out: dict[str, dict[str, float]] = {}
-        for t in self.test:
-            m = by_case.get(t.load_case)
-            for c in self.channels(t) if m is not None else []:
-                r = curve_residuals(m, t, INPUT_COLUMNS[t.load_case], c)
-                if r is not None and r.size:
-                    out.setdefault(t.load_case, {})[c] = float(np.sqrt(np.mean(r ** 2)))
+        for case, c, r in self._curves(sweeps, clamp=False):
+            if r.size:
+                out.setdefault(case, {})[c] = float(np.sqrt(np.mean(r ** 2)))
         return out
 
 

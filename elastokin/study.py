@@ -19,7 +19,7 @@ from .kc import (
 )
 from .model import DesignState, ModelOptions, SuspensionModel, build_model, design_state
 from .real_suspension import hidden_stiffness
-from .stiffness import StiffnessFit, identify_stiffness
+from .stiffness import StiffnessFit, identify_stiffness, stiffness_model
 
 
 @dataclass
@@ -122,10 +122,7 @@ def run_vertical_kc(suspension: Suspension,
     if test_sweeps and fits_stiffness(s):
         progress("identifying bushing stiffness from the K&C test data")
         fit = fit_stiffness(s, variants[static_label][0], design, test_sweeps, detail)
-        model = SuspensionModel(fit.suspension, ModelOptions(),
-                                bushing_preload=design.bushing_preload,
-                                spring_force_N=design.spring_force_N)
-        run_model("identified_stiffness", model, False)
+        run_model("identified_stiffness", stiffness_model(fit.suspension, design), False)
     errors = {}
     if test_sweeps:
         test = ModelResult("test", False, test_sweeps,
