@@ -62,8 +62,12 @@ def main() -> None:
               default=None, show_default="results/<config name>",
               help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
                    "the run succeeds, untouched when it fails.")
+@click.option("--rig", "rig_path", type=click.Path(dir_okay=False, path_type=Path),
+              default=None, show_default="the config's rig section",
+              help="Rig file (YAML): the load cases to run instead of the config's 'rig' "
+                   "section (README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
-def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
+def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
@@ -74,7 +78,7 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
     """
     from tqdm import tqdm
 
-    from .config import load_suspension
+    from .config import load_suspension_with_rig
     from .model import EXUDYN_VERSION
     from .plotting import kc_charts
     from .report import write_report
@@ -90,7 +94,7 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
 
     out_dir = out_dir or Path("results") / config_path.stem
     try:
-        suspension = load_suspension(config_path)
+        suspension = load_suspension_with_rig(config_path, rig_path)
         labels = model_labels(suspension)
         stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
                   + 2 * fits_stiffness(suspension))
@@ -125,7 +129,8 @@ def kc(config_path: Path, out_dir: Path | None, quiet: bool) -> None:
 
 def _report(summary: dict, out_dir: Path) -> str:
     lines = [f"elastokin {summary['elastokin_version']} (exudyn {summary['exudyn_version']}), "
-             f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}", ""]
+             f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}"
+             + (f", rig {summary['rig_file']}" if summary.get("rig_file") else ""), ""]
     st = summary["static"]
     residual = st["wheel_assembly_force_residual_N"]
     lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
@@ -160,6 +165,7 @@ def _report(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
+    lines += [f"  warning: {w}" for w in summary.get("warnings", [])]
     fit = summary.get("stiffness_identification")
     if fit:
         lines += ["", "Bushing stiffness fitted to the test (model identified_stiffness; "

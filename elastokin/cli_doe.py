@@ -85,6 +85,10 @@ def _client(scheduler: str | None, workers: int):
               show_default=True,
               help="'all': every load case of the config's rig; 'travel': parallel wheel "
                    "travel only (steer amplitude, bump steer, bump camber).")
+@click.option("--rig", "rig_path", type=click.Path(dir_okay=False, path_type=Path),
+              default=None, show_default="the config's rig section",
+              help="Rig file (YAML) with the load cases to run instead of the config's 'rig' "
+                   "section (README 'Rig files').")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Address of a running dask scheduler (e.g. tcp://host:8786); default: a "
                    "LocalCluster on this machine.")
@@ -98,8 +102,8 @@ def _client(scheduler: str | None, workers: int):
               help="Discard the samples already saved in --out instead of resuming.")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str,
-        scheduler: str | None, workers: int | None, out_dir: Path | None, restart: bool,
-        quiet: bool) -> None:
+        rig_path: Path | None, scheduler: str | None, workers: int | None,
+        out_dir: Path | None, restart: bool, quiet: bool) -> None:
     """Tolerance / DOE study of the assembly clearances.
 
     Samples every clearance of 'measurements.joints' within its dL_max, runs the K&C load cases
@@ -110,7 +114,7 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     from tqdm import tqdm
 
     from . import doe as study_mod
-    from .config import load_suspension
+    from .config import load_suspension_with_rig
     from .model import EXUDYN_VERSION
     from .plotting_doe import doe_charts
     from .results import config_provenance
@@ -124,7 +128,7 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     workers = workers or _cores()
     client = cluster = None
     try:
-        suspension = load_suspension(config_path)
+        suspension = load_suspension_with_rig(config_path, rig_path)
         study = study_mod.make_study(suspension, samples, method, seed, load_cases)
         _check_out(out_dir, study_mod.STORE)
         store = study_mod.SampleStore(out_dir / study_mod.STORE, study.header(), restart)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import Suspension
+from .config import RigSpec, Suspension
 from .errors import MeasurementError
 from .kc import Sweep
 from .testdata import LOAD_CASES
@@ -52,6 +52,63 @@ ERRORS = {
     "longitudinal_displacement_rms_mm": ("longitudinal_force_patch", "longitudinal_force_N",
                                          "wheel_centre_longitudinal_mm"),
 }
+
+
+def rig_for_test(test: list[Sweep], rig: RigSpec) -> RigSpec:
+    """A rig that runs the load cases of the ``test`` sweeps over their input ranges (to the
+    nearest whole step), at the step sizes of ``rig`` (its defaults where ``rig`` leaves a
+    case out); load cases without test data are left out (parallel travel stays ``rig``'s).
+    The stiffness fit runs this rig, whatever rig the report uses."""
+    cases = {sw.load_case: sw for sw in test}
+    fields = {}
+    for name, info in RigSpec.model_fields.items():
+        base = getattr(rig, name) or info.default or info.annotation.__args__[0]()
+        sw = cases.get(name)
+        if sw is None:
+            fields[name] = getattr(rig, name) if name == "parallel_travel" else None
+            continue
+        x = np.asarray(sw.columns[INPUT_COLUMNS[name]], float)
+        lo, hi = float(np.nanmin(x)), float(np.nanmax(x))
+
+        def steps(v: float, h: float) -> float:  # to the nearest whole step
+            return float(np.round(v / h) * h)
+
+        if name == "parallel_travel":
+            h = base.step_mm
+            fields[name] = base.model_copy(update={
+                "rebound_mm": min(-h, steps(lo, h)), "bump_mm": max(h, steps(hi, h)),
+                "unloading": "return" in set(sw.columns["branch"])})
+        elif name == "vertical_force":
+            h = base.step_N
+            fields[name] = base.model_copy(update={"min_N": max(h, steps(lo, h)),
+                                                   "max_N": max(2 * h, steps(hi, h))})
+        else:
+            torque = name == "aligning_torque"
+            h = base.step_Nmm if torque else base.step_N
+            fields[name] = base.model_copy(update={
+                "amplitude_Nmm" if torque else "amplitude_N": max(h, steps(max(-lo, hi), h))})
+    return RigSpec(**fields)
+
+
+def travel_stroke_note(models: dict[str, list[Sweep]], test: list[Sweep]) -> str | None:
+    """A warning when the models' parallel-travel stroke differs from the test's by more than
+    one step (steer amplitudes are then over different strokes), else None."""
+    t = next((sw for sw in test if sw.load_case == "parallel_travel"), None)
+    if t is None:
+        return None
+    tx = t.stroke("wheel_travel_mm")
+    for label, sweeps in models.items():
+        m = next((sw for sw in sweeps if sw.load_case == "parallel_travel"), None)
+        if m is None:
+            continue
+        mx = m.stroke("wheel_travel_mm")
+        step = float(np.median(np.abs(np.diff(mx)))) if mx.size > 1 else 0.0
+        if abs(mx.min() - tx.min()) > step + 1e-9 or abs(mx.max() - tx.max()) > step + 1e-9:
+            return (f"the test's travel stroke ({tx.min():.0f} to {tx.max():.0f} mm) differs "
+                    f"from the rig's (model '{label}': {mx.min():.0f} to {mx.max():.0f} mm): "
+                    "steer amplitudes are over different strokes; the errors use the test "
+                    "points inside the model's stroke")
+    return None
 
 
 def _branch_labels(load_case: str, test) -> np.ndarray:

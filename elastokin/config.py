@@ -10,7 +10,7 @@ bushing frames as rotation matrices (columns x, y, z of the bushing frame in the
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -581,6 +581,7 @@ class Suspension:
     raw: dict = field(repr=False, default_factory=dict)
     measurements: MeasurementsSpec | None = None
     kc_test: KCTestSpec | None = None
+    rig_source: str = ""  # a rig file given apart from the config ("": the config's rig)
 
     @property
     def forward(self) -> np.ndarray:
@@ -615,13 +616,13 @@ def _format_validation_error(path: str, err: ValidationError) -> str:
     return f"{path}: key '{loc}': {msg}{extra}"
 
 
-def read_yaml(path: str | Path) -> tuple[dict, bytes]:
-    """Read a YAML mapping; errors name the file and line."""
+def read_yaml(path: str | Path, what: str = "config file") -> tuple[dict, bytes]:
+    """Read a YAML mapping; errors name the file (``what`` it is) and line."""
     p = Path(path)
     try:
         text = p.read_bytes()
     except OSError as exc:
-        raise ConfigError(f"{p}: cannot read config file ({exc.strerror})") from None
+        raise ConfigError(f"{p}: cannot read {what} ({exc.strerror})") from None
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
@@ -630,7 +631,7 @@ def read_yaml(path: str | Path) -> tuple[dict, bytes]:
         problem = getattr(exc, "problem", None) or str(exc)
         raise ConfigError(f"{p}:{where}: malformed YAML: {problem}") from None
     if not isinstance(data, dict):
-        raise ConfigError(f"{p}: expected a YAML mapping of config keys at the top level")
+        raise ConfigError(f"{p}: expected a YAML mapping of keys at the top level of the {what}")
     return data, text
 
 
@@ -647,6 +648,32 @@ def load_suspension(path: str | Path, overrides: dict | None = None) -> Suspensi
     if overrides:
         digest.update(yaml.safe_dump(overrides, sort_keys=True).encode())
     return suspension_from_dict(data, str(path), digest.hexdigest())
+
+
+def load_rig(path: str | Path) -> dict:
+    """Read and validate a rig file: the load cases of :class:`RigSpec` as a YAML mapping,
+    either at the top level or under one ``rig:`` key. Errors name the rig file and key."""
+    data, _ = read_yaml(path, "rig file")
+    if set(data) == {"rig"}:
+        data = data["rig"]
+        if not isinstance(data, dict):
+            raise ConfigError(f"{path}: key 'rig': expected a mapping of load cases")
+    try:
+        RigSpec.model_validate(data)
+    except ValidationError as err:
+        raise ConfigError(_format_validation_error(f"{path} (rig file)", err)) from None
+    return data
+
+
+def load_suspension_with_rig(config_path: str | Path, rig_path: str | Path | None,
+                             overrides: dict | None = None) -> Suspension:
+    """:func:`load_suspension` with the config's ``rig`` section replaced by a rig file
+    (:func:`load_rig`) when ``rig_path`` is given; the config hash then covers the rig too."""
+    if rig_path is None:
+        return load_suspension(config_path, overrides)
+    rig = load_rig(rig_path)
+    s = load_suspension(config_path, {**(overrides or {}), "rig": rig})
+    return replace(s, rig_source=str(rig_path))
 
 
 def suspension_from_dict(data: dict, source: str = "<dict>", sha256: str = "") -> Suspension:

@@ -11,6 +11,10 @@ from pathlib import Path
 
 #: summary keys shown in the characteristics table: key -> (label, unit, format)
 ROWS = {
+    "caster_deg": ("caster (static)", "deg", ".2f"),
+    "kingpin_inclination_deg": ("kingpin inclination (static)", "deg", ".2f"),
+    "scrub_radius_mm": ("scrub radius (static)", "mm", ".2f"),
+    "caster_trail_mm": ("caster trail (static)", "mm", ".2f"),
     "steer_amplitude_deg": ("steer amplitude over the travel stroke", "deg", ".4f"),
     "bump_steer_deg_per_m": ("bump steer (+-50 mm)", "deg/m", ".3f"),
     "bump_camber_deg_per_m": ("bump camber", "deg/m", ".3f"),
@@ -60,13 +64,15 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
     """Write ``report.html`` from ``summary.json``'s content and the PNG charts."""
     models = summary["models"]
     labels = list(models)
+    rig = (f", rig file <code>{html.escape(summary['rig_file'])}</code>"
+           if summary.get("rig_file") else "")
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>elastokin K&amp;C "
              f"report: {html.escape(summary['config_file'])}</title><style>{_CSS}</style>"
              "</head><body>",
              f"<h1>K&amp;C report: {html.escape(summary['config_file'])}</h1>",
              f"<p class='note'>elastokin {summary['elastokin_version']}, Exudyn "
              f"{summary['exudyn_version']}, config sha256 <code>{summary['config_sha256']}"
-             "</code>. Units mm, N, N&middot;mm, deg; signs ISO 8855 (see summary.json "
+             f"</code>{rig}. Units mm, N, N&middot;mm, deg; signs ISO 8855 (see summary.json "
              "<code>sign_conventions</code>).</p>"]
     if "test" in models:
         parts.append("<p class='note'>The <b>test</b> curves are the K&amp;C test files of the "
@@ -80,6 +86,9 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
         parts.append("<p class='note'>Reference steer amplitude (deg, "
                      f"{html.escape(summary['static'].get('reference_source', ''))}): "
                      + ", ".join(f"{html.escape(k)} {v:g}" for k, v in refs.items()) + "</p>")
+    if summary.get("warnings"):
+        parts.append("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in summary["warnings"])
+                     + "</ul>")
     errors = summary.get("errors") or {}
     if errors:
         parts.append("<h2>Errors against the test</h2><p class='note'>RMS of the model's "
@@ -119,7 +128,7 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
     parts.append("<h2>Provenance and solver settings</h2><pre>"
                  + html.escape(json.dumps({k: summary[k] for k in (
                      "elastokin_version", "exudyn_version", "config_file", "config_sha256",
-                     "units", "solver") if k in summary}, indent=2)) + "</pre>")
+                     "rig_file", "units", "solver") if k in summary}, indent=2)) + "</pre>")
     parts.append("</body></html>\n")
     path.write_text("".join(parts), encoding="utf-8")
     return path

@@ -27,6 +27,14 @@ SIGN_CONVENTIONS = {
     "spring_*_force_N": "coil spring force, positive in compression",
     "bushing_*": "deflection of the part-2 sleeve relative to part 1, bushing frame (z axial, "
                  "x main radial), incl. the preload deflection; rotations Tait-Bryan x-y-z",
+    "caster_deg": "steering-axis inclination from the vertical in side view, + top rearward "
+                  "(docs/characteristics.md)",
+    "kingpin_inclination_deg": "steering-axis inclination from the vertical in front view, "
+                               "+ top inboard",
+    "scrub_radius_mm": "ground-plane offset of the steering axis from the contact point normal "
+                       "to the wheel/ground line, + axis inboard",
+    "caster_trail_mm": "ground-plane offset of the steering axis from the contact point along "
+                       "the wheel/ground line, + axis ahead",
     "bump_steer_deg_per_m": "least-squares slope of toe vs wheel travel over +-50 mm",
     "steer_amplitude_deg": "max - min toe over the measured stroke",
 }
@@ -43,6 +51,7 @@ def config_provenance(s, exudyn_version: str) -> dict:
         "exudyn_version": exudyn_version,
         "config_file": str(s.source),
         "config_sha256": s.sha256,
+        "rig_file": s.rig_source or None,  # None: the config's own rig section
         "units": {"length": "mm", "force": "N", "torque": "N*mm", "angle": "deg"},
     }
 
@@ -56,6 +65,8 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
     with open(path, "w", newline="") as fh:
         for key in ("elastokin_version", "exudyn_version", "config_file", "config_sha256"):
             fh.write(f"# {key}: {header[key]}\n")
+        if header.get("rig_file"):
+            fh.write(f"# rig_file: {header['rig_file']}\n")
         fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable\n")
         writer = csv.writer(fh, lineterminator="\n")
         writer.writerow(["model", "load_case", "step", "branch", *names])
@@ -105,6 +116,7 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
                                       run.design.bushing_preload.items()},
         },
         "reference": {"steer_amplitude_deg": ref.steer_amplitude_deg},
+        "warnings": run.warnings,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
         "sign_conventions": SIGN_CONVENTIONS,

@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from .comparison import INPUT_COLUMNS, curve_residuals, model_errors
+from .comparison import INPUT_COLUMNS, curve_residuals, model_errors, rig_for_test
 from .config import StiffnessIdentificationSpec, Suspension
 from .errors import ConfigError, ElastokinError, SolverError
 from .kc import Sweep, run_load_cases
@@ -455,7 +455,9 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
     beside the fitted ones, never used in fitting."""
     spec = spec or StiffnessIdentificationSpec()
     params = parameters(suspension, spec)
-    res = Residuals(suspension, design, test, spec)
+    # the fit runs the test's load cases over the test's ranges, whatever the report's rig
+    res = Residuals(dataclasses.replace(suspension, rig=rig_for_test(test, suspension.rig)),
+                    design, test, spec)
     before_sweeps = res.sweeps({})
     r0 = res.vector(before_sweeps)
     if r0.size <= len(params):

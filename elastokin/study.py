@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from .comparison import model_errors, read_test_sweeps
+from .comparison import model_errors, read_test_sweeps, travel_stroke_note
 from .config import Suspension, suspension_from_dict
 from .errors import ConfigError
 from .identify import Identification, identify
@@ -34,6 +34,7 @@ class KCRun:
     identification: Identification | None = None
     errors: dict[str, dict] = field(default_factory=dict)  # model -> errors against the test
     stiffness: StiffnessFit | None = None  # bushing-stiffness identification, with test data
+    warnings: list[str] = field(default_factory=list)  # on comparing the models with the test
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -123,10 +124,12 @@ def run_vertical_kc(suspension: Suspension,
         progress("identifying bushing stiffness from the K&C test data")
         fit = fit_stiffness(s, variants[static_label][0], design, test_sweeps, detail)
         run_model("identified_stiffness", stiffness_model(fit.suspension, design), False)
-    errors = {}
+    errors, warnings = {}, []
     if test_sweeps:
         test = ModelResult("test", False, test_sweeps,
                            {"source": "K&C rig test data (kc_test)", "files": test_files})
         errors = {label: model_errors(m.sweeps, test_sweeps) for label, m in models.items()}
+        note = travel_stroke_note({k: m.sweeps for k, m in models.items()}, test_sweeps)
+        warnings += [note] if note else []
         models = {"test": test, **models}
-    return KCRun(s, design, static, models, ident, errors, fit)
+    return KCRun(s, design, static, models, ident, errors, fit, warnings)

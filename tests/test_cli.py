@@ -8,6 +8,7 @@ import yaml
 from click.testing import CliRunner
 
 from elastokin.cli import main
+from elastokin.config import load_suspension
 
 
 def run_kc(config, out):
@@ -79,7 +80,7 @@ def test_charts_written(kc_out):
 
 def test_help_documents_every_option():
     out = CliRunner().invoke(main, ["kc", "--help"]).output
-    for opt in ("--config", "--out", "--quiet"):
+    for opt in ("--config", "--out", "--rig", "--quiet"):
         assert opt in out
 
 
@@ -142,9 +143,10 @@ def test_bad_input_one_clear_line(case_dict, tmp_path, case_name):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".out")]
 
 
-def test_failed_run_keeps_previous_results(case_dict, tmp_path, case_path):
-    out = tmp_path / "out"
-    assert run_kc(case_path, out).exit_code == 0
+def test_failed_run_keeps_previous_results(case_dict, tmp_path):
+    out, good = tmp_path / "out", tmp_path / "good.yaml"
+    good.write_text(yaml.safe_dump(case_dict))  # the nominal model: no fit, a quick run
+    assert run_kc(good, out).exit_code == 0
     before = (out / "summary.json").read_text()
     case_dict["connections"]["J8"]["type"] = "ball"
     path = tmp_path / "bad.yaml"
@@ -160,3 +162,46 @@ def test_refuses_to_overwrite_a_foreign_folder(tmp_path, case_path):
     result = run_kc(case_path, out)
     assert result.exit_code == 1 and "not empty" in result.output
     assert (out / "notes.txt").read_text() == "keep me"
+
+
+def test_rig_file_replaces_the_configs_load_cases(case_dict, tmp_path, case_path):
+    """``--rig configs/rigs/travel_only.yaml``: travel only, +-50 mm in 2 mm steps, no
+    unloading; the rig file is named in summary.json and kc.csv and enters the config hash."""
+    config = tmp_path / "nominal.yaml"
+    config.write_text(yaml.safe_dump(case_dict))
+    rig = case_path.parent / "rigs" / "travel_only.yaml"
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["kc", "--config", str(config), "--rig", str(rig),
+                                       "--out", str(out), "--quiet"])
+    assert result.exit_code == 0, result.output
+    s = json.loads((out / "summary.json").read_text())
+    assert s["rig_file"] == str(rig)
+    plain = load_suspension(config)
+    assert s["config_sha256"] != plain.sha256
+    lines = (out / "kc.csv").read_text().splitlines()
+    assert f"# rig_file: {rig}" in lines
+    rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+    assert {r["load_case"] for r in rows} == {"parallel_travel"}
+    stroke = [float(r["wheel_travel_mm"]) for r in rows
+              if r["model"] == "initial" and r["branch"] == "stroke"]
+    assert len(stroke) == 51 and stroke[0] == pytest.approx(-50, abs=1.0)
+    assert not [r for r in rows if r["branch"] == "return"]
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("lateral_force: {amplitude_N: -5}\n", ["rig.yaml (rig file)", "lateral_force.amplitude_N",
+                                           "greater than 0"]),
+    ("rig: {lateral_forse: null}\n", ["rig.yaml (rig file)", "lateral_forse"]),
+    ("- 1\n", ["rig.yaml", "mapping", "rig file"]),
+])
+def test_bad_rig_file_one_clear_line(case_dict, tmp_path, text, expected):
+    config, rig = tmp_path / "nominal.yaml", tmp_path / "rig.yaml"
+    config.write_text(yaml.safe_dump(case_dict))
+    rig.write_text(text)
+    result = CliRunner().invoke(main, ["kc", "--config", str(config), "--rig", str(rig),
+                                       "--out", str(tmp_path / "out"), "--quiet"])
+    message = result.output.strip()
+    assert result.exit_code == 1 and message.startswith("elastokin: error: ")
+    assert "\n" not in message and "Traceback" not in message
+    for word in expected:
+        assert word in message, message

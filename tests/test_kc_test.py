@@ -13,8 +13,23 @@ import yaml
 from click.testing import CliRunner
 
 from elastokin.cli import main
-from elastokin.comparison import ERRORS, curve_error_rms, read_test_sweeps, to_sweep
-from elastokin.config import load_suspension, read_yaml, suspension_from_dict
+from elastokin.comparison import (
+    ERRORS,
+    curve_error_rms,
+    read_test_sweeps,
+    rig_for_test,
+    to_sweep,
+    travel_stroke_note,
+)
+from elastokin.config import (
+    ForceSweepSpec,
+    RigSpec,
+    TorqueSweepSpec,
+    load_rig,
+    load_suspension,
+    read_yaml,
+    suspension_from_dict,
+)
 from elastokin.errors import MeasurementError
 from elastokin.kc import Sweep, parallel_travel, static_equilibrium, steer_amplitude_deg
 from elastokin.model import ModelOptions, SuspensionModel
@@ -251,3 +266,30 @@ def test_steer_amplitude_of_test_equals_the_real_suspension_run():
                            "steer_amplitude_baseline.json").read_text())
     assert steer_amplitude_deg(travel) == pytest.approx(
         baseline["steer_amplitude_deg"]["test"], abs=1e-9)
+
+
+def test_fit_rig_covers_the_test_whatever_the_report_rig():
+    """The stiffness fit's rig spans the test's load cases and input ranges (to whole steps) at
+    the report rig's step sizes: the shipped test needs exactly the paper's (default) rig."""
+    s = load_suspension(CASE)
+    test, _ = read_test_sweeps(s)
+    assert rig_for_test(test, s.rig) == RigSpec()
+    assert RigSpec.model_validate(load_rig(CASE.parent / "rigs" / "paper_fig9.yaml")) == RigSpec()
+    quick = RigSpec.model_validate(load_rig(CASE.parent / "rigs" / "travel_only.yaml"))
+    fit = rig_for_test(test, quick)
+    assert (fit.parallel_travel.rebound_mm, fit.parallel_travel.bump_mm) == (-90.0, 90.0)
+    assert fit.parallel_travel.step_mm == 2.0 and fit.parallel_travel.unloading
+    assert fit.lateral_force == ForceSweepSpec() and fit.aligning_torque == TorqueSweepSpec()
+    only_travel = rig_for_test([sw for sw in test if sw.load_case == "parallel_travel"], s.rig)
+    assert only_travel.lateral_force is None and only_travel.vertical_force is None
+
+
+def test_a_shorter_rig_stroke_than_the_test_is_noted():
+    s = load_suspension(CASE)
+    test, _ = read_test_sweeps(s)
+    travel = [sw for sw in test if sw.load_case == "parallel_travel"]
+    assert travel_stroke_note({"same": travel}, test) is None
+    model = SuspensionModel(short_rig_case(), ModelOptions())
+    short = [parallel_travel(model, "initial")]
+    note = travel_stroke_note({"initial": short}, test)
+    assert note is not None and "-20 to 20 mm" in note and "-90 to 90 mm" in note
