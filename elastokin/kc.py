@@ -92,7 +92,8 @@ def characteristics(states: list[StepState], suspension: Suspension,
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
     }
-    cols.update(steering_axis_columns(states, s))
+    if states[0].poses is not None:  # models built with ModelOptions(part_poses=False): none
+        cols.update(steering_axis_columns(states, s))
     for name in states[0].spring_force_N:
         cols[f"spring_{name}_force_N"] = np.array([st.spring_force_N[name] for st in states])
     units = ("mm", "mm", "mm", "deg", "deg", "deg")

@@ -74,11 +74,15 @@ class ModelOptions:
     user_functions: how bushing laws and rig paths are evaluated: ``"symbolic"`` (Exudyn
         symbolic functions at C++ speed; linear bushings use Exudyn's own stiffness matrix) or
         ``"python"`` (Python callbacks: the straightforward, slow reference).
+    part_poses: record every part's pose at every step (``StepState.poses``, needed for the
+        steering-axis columns); off, steps carry no poses and sweeps no steering-axis columns
+        (the stiffness fit, which does not use them).
     """
 
     kinematic: bool = False
     stiffness_scale: float = 1.0
     user_functions: str = "symbolic"
+    part_poses: bool = True  # record every part's pose per step (the steering-axis columns)
 
     def __post_init__(self):
         if self.user_functions not in ("symbolic", "python"):
@@ -438,7 +442,7 @@ class SuspensionModel:
             for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
                                 ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
                 self._sensors[f"bushing:{name}:{key}"] = obj(e["object"], output)
-        for name, number in self.body.items():  # every part's pose (PartPoses per step)
+        for name, number in (self.body if self.options.part_poses else {}).items():
             for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
                 self._sensors[f"part:{name}:{key}"] = mbs.AddSensor(SensorBody(
                     bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
@@ -661,8 +665,9 @@ class SuspensionModel:
             else:
                 f = np.full(6, np.nan)
             defl[name], load[name] = u, f
-        poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in self.body},
-                          {n: row[f"part:{n}:disp"] for n in self.body}, self._pose_refs)
+        poses = None if not self.options.part_poses else PartPoses(
+            {n: row[f"part:{n}:R"].reshape(3, 3) for n in self.body},
+            {n: row[f"part:{n}:disp"] for n in self.body}, self._pose_refs)
         return StepState(row["centre"], R @ self.suspension.wheel.spin_axis, R,
                          row["patch"], pad, springs, defl, load, poses)
 

@@ -26,11 +26,16 @@ test at each test point, branch by branch (:func:`elastokin.comparison.curve_res
 its mean over the curve (a static offset is not a stiffness), divided by the curve's scale:
 with ``weighting: range`` the range of the test curve, never less than the rig's uncertainty
 (``residual_scale_deg`` / ``residual_scale_mm``), so that every chart counts alike; with
-``weighting: uncertainty`` that uncertainty alone.
+``weighting: uncertainty`` that uncertainty alone; with ``weighting: residual`` the curve's
+own residual RMS at the previous fit (iteratively reweighted least squares from the range
+weights: maximum likelihood with an unknown error level per curve, so that curves no
+frictionless model follows - friction hysteresis - lose weight), refitted until no curve's
+scale changes by more than 5 % or ``reweighting_passes`` fits were made.
 
 **Fit.** ``scipy.optimize.least_squares`` (trust-region reflective, bounds), on ln(scale) and
 on the stiffening at a reference deflection of 1 mm or 1 deg (``cubic * 1^2``), forward
-differences with a 1e-3 step (far above the static solver's tolerance).
+differences with a 1e-3 step (far above the static solver's tolerance); the Jacobian's model
+runs spread over worker processes (same result for any number).
 
 **Uncertainty and identifiability.** At the solution, J the residual Jacobian (m residuals,
 n parameters): covariance ``s^2 (J^T J)^-1 * m / m_eff`` with ``s^2 = |r|^2 / (m - n)``, where
@@ -51,6 +56,7 @@ those not determined are reported with a warning (fix them by leaving them out o
 from __future__ import annotations
 
 import dataclasses
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -83,6 +89,8 @@ CHANNELS = {
 _LOG_SCALE_BOUNDS = (np.log(0.05), np.log(20.0))
 _STIFFENING_BOUNDS = (0.0, 100.0)
 _DIFF_STEP = 1e-3
+#: weighting "residual": stop reweighting when no curve's scale changes by more than this
+_REWEIGHTING_TOLERANCE = 0.05
 _BUSHING_COLUMNS = ("x_mm", "y_mm", "z_mm", "rx_deg", "ry_deg", "rz_deg")
 
 
@@ -145,9 +153,12 @@ def with_stiffness(suspension: Suspension, values: dict[str, dict[str, float]]) 
     return dataclasses.replace(suspension, bushings=bushings)
 
 
-def stiffness_model(suspension: Suspension, design: DesignState) -> SuspensionModel:
-    """The compliant model of ``suspension`` (fitted laws) carrying the loads of ``design``."""
-    return SuspensionModel(suspension, ModelOptions(), bushing_preload=design.bushing_preload,
+def stiffness_model(suspension: Suspension, design: DesignState,
+                    part_poses: bool = True) -> SuspensionModel:
+    """The compliant model of ``suspension`` (fitted laws) carrying the loads of ``design``
+    (``part_poses``: see :class:`~elastokin.model.ModelOptions`)."""
+    return SuspensionModel(suspension, ModelOptions(part_poses=part_poses),
+                           bushing_preload=design.bushing_preload,
                            spring_force_N=design.spring_force_N)
 
 
@@ -184,19 +195,22 @@ class Residuals:
         self.suspension = suspension
         self.design = design
         self.test = test
-        floor = {"deg": spec.residual_scale_deg, "mm": spec.residual_scale_mm}
+        floor = self.floor = {"deg": spec.residual_scale_deg, "mm": spec.residual_scale_mm}
         # each (load case, channel) curve divided by the range of its test curve, never
         # finer than the rig's uncertainty: every chart counts alike
         self.scale = {}
         for sw in test:
             for c in self.channels(sw):
                 y = sw.columns[c]
-                span = float(np.nanmax(y) - np.nanmin(y)) if spec.weighting == "range" else 0.0
+                span = (float(np.nanmax(y) - np.nanmin(y))
+                        if spec.weighting in ("range", "residual") else 0.0)
                 self.scale[(sw.load_case, c)] = max(span, floor[CHANNELS[c]])
         self.evaluations = 0
 
     def model(self, values: dict[str, dict[str, float]]) -> SuspensionModel:
-        return stiffness_model(with_stiffness(self.suspension, values), self.design)
+        # the residuals use no steering-axis columns: no part poses recorded (faster)
+        return stiffness_model(with_stiffness(self.suspension, values), self.design,
+                               part_poses=False)
 
     def sweeps(self, values: dict[str, dict[str, float]]) -> list[Sweep]:
         self.evaluations += 1
@@ -220,12 +234,25 @@ class Residuals:
         """All residuals, divided by their curve's scale (the fit's objective)."""
         parts = []
         self.blocks: list[int] = []  # residuals per curve, in vector order
+        self.keys: list[tuple[str, str]] = []  # (load case, channel) per curve, same order
         for case, c, r in self._curves(sweeps, clamp=True):
             # a free offset per curve (the mean) instead of the test's static value: one
             # noisy test point must not shift a whole curve
             parts.append((r - r.mean()) / self.scale[(case, c)])
             self.blocks.append(r.size)
+            self.keys.append((case, c))
         return np.concatenate(parts)
+
+    def reweighted(self, vector: np.ndarray) -> dict[tuple[str, str], float]:
+        """Each curve's scale for the next pass of ``weighting: residual``: the RMS of its
+        residuals in ``vector`` (made by :meth:`vector` with the current scales), never
+        finer than the rig's uncertainty."""
+        out, start = {}, 0
+        for key, n in zip(self.keys, self.blocks):
+            rms = float(np.sqrt(np.mean(vector[start:start + n] ** 2))) * self.scale[key]
+            out[key] = max(rms, self.floor[CHANNELS[key[1]]])
+            start += n
+        return out
 
     def rms(self, sweeps: list[Sweep]) -> dict[str, dict[str, float]]:
         """RMS of the unweighted residuals per load case and channel (deg or mm)."""
@@ -343,7 +370,9 @@ class StiffnessFit:
         for k, v in self.errors_before.items():
             a = self.errors_after.get(k)
             if v is not None and a is not None:
-                out.append(f"  {k:<36}{v:>9.4f} -> {a:.4f}  ({100 * (1 - a / v):+.0f} % cut)")
+                change = (f"{100 * (1 - a / v):.0f} % cut" if a <= v
+                          else f"{100 * (a / v - 1):.0f} % larger")
+                out.append(f"  {k:<36}{v:>9.4f} -> {a:.4f}  ({change})")
         out.append(f"  weighted residual RMS {self.residual_rms_before:.4g} -> "
                    f"{self.residual_rms_after:.4g} over {self.residual_count} residuals, "
                    f"({self.effective_residual_count:.0f} independent), "
@@ -443,16 +472,94 @@ def _largest_deflections(sweeps: list[Sweep], bushings: set[str]) -> dict[tuple[
     return out
 
 
+_WORKER_RESIDUALS: Residuals | None = None  # a worker process' copy (see _Runs)
+
+
+def _start_worker(residuals: Residuals) -> None:
+    global _WORKER_RESIDUALS
+    _WORKER_RESIDUALS = residuals
+
+
+def _worker_vector(values: dict[str, dict[str, float]]) -> np.ndarray:
+    return _WORKER_RESIDUALS.vector(_WORKER_RESIDUALS.sweeps(values))
+
+
+class _Runs:
+    """The fit's model runs: one at a time in this process, and the Jacobian's columns (each
+    an independent model run) over ``workers`` spawned processes holding a copy of the
+    residuals. Each run is deterministic, so the fit is the same for any number of workers."""
+
+    def __init__(self, res: Residuals, params: list[Parameter], workers: int,
+                 progress: Callable[[str], None]):
+        self.res, self.params, self.progress = res, params, progress
+        self.pool = None
+        if workers > 1:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            # fork where it is safe (Linux): no re-import of the caller's main module (a
+            # script without a main guard) and no import cost; elsewhere spawn
+            method = "fork" if sys.platform.startswith("linux") else "spawn"
+            self.pool = ProcessPoolExecutor(workers, multiprocessing.get_context(method),
+                                            initializer=_start_worker, initargs=(res,))
+        self.last: tuple[np.ndarray, np.ndarray] | None = None
+
+    def close(self) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+
+    def _failed(self, x: np.ndarray, exc: SolverError) -> SolverError:
+        vals = ", ".join(f"{p.label}={p.from_x(v):.4g}" for p, v in zip(self.params, x))
+        return SolverError(f"stiffness identification: the model does not solve at {vals}: "
+                           f"{exc}")
+
+    def fun(self, x: np.ndarray) -> np.ndarray:
+        if self.last is not None and np.array_equal(self.last[0], x):
+            return self.last[1]  # least_squares asks for the Jacobian where it just evaluated
+        self.progress(f"stiffness fit: model run {self.res.evaluations + 1}")
+        try:
+            r = self.res.vector(self.res.sweeps(_values(self.params, x)))
+        except SolverError as exc:
+            raise self._failed(x, exc) from None
+        self.last = (x.copy(), r)
+        return r
+
+    def many(self, xs: list[np.ndarray]) -> list[np.ndarray]:
+        if self.pool is None:
+            return [self.fun(x) for x in xs]
+        futures = [self.pool.submit(_worker_vector, _values(self.params, x)) for x in xs]
+        out = []
+        for x, fut in zip(xs, futures):
+            try:
+                out.append(fut.result())
+            except SolverError as exc:
+                raise self._failed(x, exc) from None
+            self.res.evaluations += 1
+            self.progress(f"stiffness fit: model run {self.res.evaluations}")
+        return out
+
+
+def fit_workers(n_parameters: int) -> int:
+    """Default worker processes of the fit: one per Jacobian column, at most one per core."""
+    import os
+
+    return max(1, min(n_parameters, len(os.sched_getaffinity(0))
+                      if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
+
+
 def identify_stiffness(suspension: Suspension, design: DesignState, test: list[Sweep],
                        spec: StiffnessIdentificationSpec | None = None,
                        progress: Callable[[str], None] = lambda msg: None,
                        ftol: float = 1e-8, xtol: float = 1e-8, max_iterations: int = 100,
-                       hidden: dict[str, dict[str, float]] | None = None) -> StiffnessFit:
+                       hidden: dict[str, dict[str, float]] | None = None,
+                       workers: int | None = None) -> StiffnessFit:
     """Fit the bushing laws of ``suspension`` (preloads of ``design`` kept) to the ``test``
     sweeps (see the module docstring). Stopping after ``max_iterations`` (each a Jacobian:
     one model run per parameter, plus one) without converging is an error. ``hidden``: the
     true values when the test data are synthetic (bushing -> parameter -> value), reported
-    beside the fitted ones, never used in fitting."""
+    beside the fitted ones, never used in fitting. ``workers``: processes for the Jacobian's
+    model runs (default :func:`fit_workers`; 1 runs everything in this process); the result
+    does not depend on it."""
     spec = spec or StiffnessIdentificationSpec()
     params = parameters(suspension, spec)
     # the fit runs the test's load cases over the test's ranges, whatever the report's rig
@@ -463,39 +570,45 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
     if r0.size <= len(params):
         raise ElastokinError(f"{suspension.source}: key 'kc_test': {r0.size} test residuals "
                              f"cannot determine {len(params)} stiffness parameters")
-
-    def fun(x):
-        progress(f"stiffness fit: model run {res.evaluations + 1}")
-        try:
-            return res.vector(res.sweeps(_values(params, x)))
-        except SolverError as exc:
-            vals = ", ".join(f"{p.label}={p.from_x(v):.4g}" for p, v in zip(params, x))
-            raise SolverError(f"stiffness identification: the model does not solve at "
-                              f"{vals}: {exc}") from None
-
     lo = np.array([p.bounds[0] for p in params])
     hi = np.array([p.bounds[1] for p in params])
+    workers = fit_workers(len(params)) if workers is None else workers
+    runs = _Runs(res, params, workers, progress)
 
     def jac(x):
         # forward differences with an absolute step in the optimisation variables (scipy's
         # relative step vanishes at 0 and drowns in the static solver's tolerance)
-        f0 = fun(x)
-        J = np.empty((f0.size, x.size))
-        for j in range(x.size):
-            h = _DIFF_STEP if x[j] + _DIFF_STEP <= hi[j] else -_DIFF_STEP
-            xh = x.copy()
-            xh[j] += h
-            J[:, j] = (fun(xh) - f0) / h
-        return J
+        f0 = runs.fun(x)
+        steps = [_DIFF_STEP if x[j] + _DIFF_STEP <= hi[j] else -_DIFF_STEP
+                 for j in range(x.size)]
+        shifted = [x + h * np.eye(x.size)[j] for j, h in enumerate(steps)]
+        return np.column_stack([(f - f0) / h for f, h in zip(runs.many(shifted), steps)])
 
-    x0 = np.array([p.to_x(p.nominal) for p in params])
-    sol = optimize.least_squares(fun, x0, bounds=(lo, hi), jac=jac, x_scale="jac",
-                                 ftol=ftol, xtol=xtol, gtol=1e-10, max_nfev=max_iterations)
-    if sol.status == 0:
-        raise SolverError(f"{suspension.source}: stiffness identification did not converge in "
-                          f"{max_iterations} iterations ({res.evaluations} model runs); fit "
-                          "fewer parameters (kc_test.stiffness_identification.parameters)")
-    x = sol.x
+    x = np.array([p.to_x(p.nominal) for p in params])
+    passes = spec.reweighting_passes if spec.weighting == "residual" else 1
+    reweighting, sol = [], None
+    for k in range(passes):
+        if k:  # weighting "residual": each curve's scale from the last pass' residuals
+            scales = res.reweighted(sol.fun)
+            change = max(abs(scales[key] / res.scale[key] - 1.0) for key in scales)
+            reweighting.append({"pass": k + 1, "largest_scale_change": change})
+            if change < _REWEIGHTING_TOLERANCE:
+                break
+            res.scale.update(scales)
+            runs = _Runs(res, params, workers, progress)  # workers copy the new scales
+        try:
+            sol = optimize.least_squares(runs.fun, x, bounds=(lo, hi), jac=jac,
+                                         x_scale="jac", ftol=ftol, xtol=xtol, gtol=1e-10,
+                                         max_nfev=max_iterations)
+        finally:
+            runs.close()
+        if sol.status == 0:
+            raise SolverError(f"{suspension.source}: stiffness identification did not "
+                              f"converge in {max_iterations} iterations ({res.evaluations} "
+                              "model runs); fit fewer parameters "
+                              "(kc_test.stiffness_identification.parameters)")
+        x = sol.x
+    r0 = res.vector(before_sweeps)  # the residuals before the fit, with the final weights
     cov, corr, cond, t, m_eff = _jacobian_statistics(sol.jac, sol.fun, len(params), res.blocks)
     after_sweeps = res.sweeps(_values(params, x))
     reach = _largest_deflections(after_sweeps, {p.bushing for p in params})
@@ -518,6 +631,11 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
             warnings.append(f"{p.label}: not determined by the test data (95 % half-width "
                             f"{100 * hw:.0f} % of the stiffness > "
                             f"{100 * spec.determined_within:.0f} %)")
+    last_change = reweighting[-1]["largest_scale_change"] if reweighting else 0.0
+    if last_change >= _REWEIGHTING_TOLERANCE:
+        warnings.append(f"weighting 'residual': stopped after {passes} passes with a curve's "
+                        f"scale still changing by {100 * last_change:.0f} % at the last one "
+                        "(weights not converged; more passes: reweighting_passes)")
     labels = [p.label for p in params]
     for a in range(len(labels)):
         for b in range(a + 1, len(labels)):
@@ -539,7 +657,10 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
         hidden=_hidden_comparison(results, values, reach, hidden),
         settings={"method": "scipy.optimize.least_squares (trf, forward differences, step "
                             f"{_DIFF_STEP})", "ftol": ftol, "xtol": xtol,
-                  "max_iterations": max_iterations, **spec.model_dump()})
+                  "max_iterations": max_iterations, "workers": workers,
+                  "reweighting": reweighting,
+                  "curve_scales": {f"{case}.{c}": v for (case, c), v in res.scale.items()},
+                  **spec.model_dump()})
 
 
 def _hidden_comparison(results: list[ParameterResult], values: dict, reach: dict,

@@ -239,14 +239,24 @@ def test_kc_summary_contract_errors_and_report(tmp_path):
     e = summary["errors"]
     assert e["identified"]["steer_vs_travel_rms_deg"] < 0.5 * e["initial"][
         "steer_vs_travel_rms_deg"]
-    # the stiffness fit cuts the compliance errors (measured: longitudinal 3.01 -> 0.19 mm,
-    # steer vs lateral force 0.0066 -> 0.0025 deg); the bounds leave room for solver and
-    # platform noise but fail if the fit stops improving either chart materially
+    # issue 5's targets: the stiffness fit cuts both compliance errors by >= 80 % (measured:
+    # longitudinal 3.008 -> 0.034 mm, -99 %; steer vs lateral force 0.0066 -> 0.0008 deg,
+    # -88 %: 8 points of margin for platform noise in the fit's path)
     assert e["identified_stiffness"]["longitudinal_displacement_rms_mm"] < 0.2 * e[
         "identified"]["longitudinal_displacement_rms_mm"]
-    assert e["identified_stiffness"]["steer_vs_lateral_force_rms_deg"] < 0.6 * e[
+    assert e["identified_stiffness"]["steer_vs_lateral_force_rms_deg"] < 0.2 * e[
         "identified"]["steer_vs_lateral_force_rms_deg"]
     fit = json.loads((out / "stiffness_identification.json").read_text())
+    # ... and recovers the hidden stiffness of the synthetic real suspension: every determined
+    # scale within 5 % (measured J1 +1.6 %, J2 +4.2 %, J4 +3.2 %), and every determined
+    # parameter's stiffness effect within 5 % where the load cases take the bushing
+    for key, p in fit["parameters"].items():
+        hidden = fit["hidden_comparison"][key]
+        if p["determined"] and key.endswith("_scale"):
+            assert abs(hidden["relative_error"]) < 0.05, (key, hidden)
+    for b in ("J1", "J2"):
+        assert fit["hidden_comparison"][f"{b}.translation_stiffness"][
+            "secant_stiffness_error_max"] < 0.05
     assert fit["config_sha256"] == summary["config_sha256"]
     assert set(fit["parameters"]) == set(summary["stiffness_identification"]["parameters"])
     html = (out / "report.html").read_text()

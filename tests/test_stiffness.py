@@ -67,6 +67,23 @@ def test_effective_residual_count():
     assert effective_residual_count(smooth, [500, 500]) < 5
 
 
+def test_reweighting_by_hand(coarse):
+    """weighting 'residual': a curve's next scale is its residual RMS in its own units (the
+    weighted RMS times its current scale), never finer than the rig's resolution."""
+    s, design = coarse
+    spec = StiffnessIdentificationSpec(weighting="residual", residual_scale_deg=0.001,
+                                       residual_scale_mm=0.01)
+    res = Residuals(s, design, [], spec)
+    res.keys = [("lateral_force", "toe_deg"), ("lateral_force", "wheel_centre_lateral_mm")]
+    res.blocks = [2, 3]
+    res.scale = {res.keys[0]: 0.1, res.keys[1]: 2.0}
+    # toe: weighted residuals 3, 4 -> RMS sqrt(12.5) * 0.1 deg; lateral: RMS 0.001 * 2 mm
+    # = 0.002 mm, below the 0.01 mm floor
+    out = res.reweighted(np.array([3.0, 4.0, 0.001, -0.001, 0.001]))
+    assert out[res.keys[0]] == pytest.approx(0.1 * np.sqrt(12.5))
+    assert out[res.keys[1]] == 0.01
+
+
 # ------------------------------------------------------------------ fitting
 @pytest.fixture(scope="module")
 def coarse():
@@ -135,6 +152,20 @@ def test_noisy_data_truth_inside_the_confidence_interval(coarse):
         assert p.ci95[1] - p.ci95[0] < 0.2 * truth  # and the interval is informative
     assert np.all(np.abs(fit.correlation) <= 1.0 + 1e-12)
     assert np.isfinite(fit.condition_number) and fit.condition_number >= 1.0
+
+
+def test_fit_is_the_same_on_one_or_two_worker_processes(coarse):
+    """The Jacobian's model runs spread over processes: each run is deterministic, so the fit
+    (values, intervals, model-run count) must be identical, not merely close."""
+    s, design = coarse
+    test = _test_sweeps(s, design, HIDDEN, noise=NOISE, seed=5)
+    spec = StiffnessIdentificationSpec(parameters=["translation_scale"])
+    serial = identify_stiffness(s, design, test, spec, workers=1)
+    pooled = identify_stiffness(s, design, test, spec, workers=2)
+    assert pooled.settings["workers"] == 2 and serial.settings["workers"] == 1
+    assert [p.value for p in pooled.parameters] == [p.value for p in serial.parameters]
+    assert [p.ci95 for p in pooled.parameters] == [p.ci95 for p in serial.parameters]
+    assert pooled.evaluations == serial.evaluations
 
 
 def test_parameter_without_effect_is_flagged_not_determined(coarse):
