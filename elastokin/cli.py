@@ -48,6 +48,14 @@ class _Output:
         self.tmp.rename(self.out)
 
 
+#: ``--rig FILE`` of the commands that run the rig's load cases (kc, doe)
+rig_option = click.option(
+    "--rig", "rig_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
+    show_default="the config's rig section",
+    help="Rig file (YAML): the load cases to run instead of the config's 'rig' section "
+         "(README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
+
+
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="elastokin")
 def main() -> None:
@@ -62,10 +70,7 @@ def main() -> None:
               default=None, show_default="results/<config name>",
               help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
                    "the run succeeds, untouched when it fails.")
-@click.option("--rig", "rig_path", type=click.Path(dir_okay=False, path_type=Path),
-              default=None, show_default="the config's rig section",
-              help="Rig file (YAML): the load cases to run instead of the config's 'rig' "
-                   "section (README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
+@rig_option
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every

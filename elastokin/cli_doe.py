@@ -17,7 +17,7 @@ from pathlib import Path
 
 import click
 
-from .cli import _fail, main
+from .cli import _fail, main, rig_option
 from .errors import ElastokinError
 
 EXIT_FAILED_SAMPLES = 3
@@ -85,10 +85,7 @@ def _client(scheduler: str | None, workers: int):
               show_default=True,
               help="'all': every load case of the config's rig; 'travel': parallel wheel "
                    "travel only (steer amplitude, bump steer, bump camber).")
-@click.option("--rig", "rig_path", type=click.Path(dir_okay=False, path_type=Path),
-              default=None, show_default="the config's rig section",
-              help="Rig file (YAML) with the load cases to run instead of the config's 'rig' "
-                   "section (README 'Rig files').")
+@rig_option
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Address of a running dask scheduler (e.g. tcp://host:8786); default: a "
                    "LocalCluster on this machine.")
