@@ -31,10 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin import __version__, doe
-from elastokin.config import load_suspension
-from elastokin.kc import _leg
-from elastokin.model import EXUDYN_VERSION, design_state
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.model import EXUDYN_VERSION, design_state
+from elastokin.rig.load_cases import _leg
+from elastokin.studies import doe
+from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET = 3000.0
@@ -46,9 +47,9 @@ def per_minute(count: int, seconds: float) -> float:
 
 def profile(study: doe.Study, repeat: int) -> dict:
     """Median ms of each stage of one sweep, over ``repeat`` samples."""
-    from elastokin.kc import characteristics
-    from elastokin.model import ModelOptions, SuspensionModel
-    from elastokin.synthesize import as_built
+    from elastokin.mbs.model import ModelOptions, SuspensionModel
+    from elastokin.rig.load_cases import characteristics
+    from elastokin.synthetic.virtual_cmm import as_built
 
     s, design = doe._context(study.job)
     spec = s.rig.parallel_travel

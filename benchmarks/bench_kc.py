@@ -26,10 +26,10 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin import __version__
-from elastokin.config import load_suspension
-from elastokin.kc import travel_path
-from elastokin.model import EXUDYN_VERSION, ModelOptions, build_model, design_state
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.model import EXUDYN_VERSION, ModelOptions, build_model, design_state
+from elastokin.rig.load_cases import travel_path
+from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parents[1]
 

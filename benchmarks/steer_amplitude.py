@@ -23,12 +23,12 @@ import sys
 import time
 from pathlib import Path
 
-from elastokin import __version__
-from elastokin.config import load_suspension
-from elastokin.kc import parallel_travel, steer_amplitude_deg
-from elastokin.model import EXUDYN_VERSION
-from elastokin.real_suspension import real_suspension_model
-from elastokin.study import run_vertical_kc
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.model import EXUDYN_VERSION
+from elastokin.rig.load_cases import parallel_travel, steer_amplitude_deg
+from elastokin.studies.kc_job import run_vertical_kc
+from elastokin.synthetic.real_suspension import real_suspension_model
+from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIG = ROOT / "configs" / "pseudo_mcpherson.yaml"

@@ -5,4 +5,6 @@ Units at every interface: mm, N, N*mm, deg (see README, "Units and frames").
 
 from __future__ import annotations
 
-__version__ = "0.1.0"
+from elastokin.version import __version__
+
+__all__ = ["__version__"]

@@ -3,7 +3,7 @@ from pathlib import Path
 
 import pytest
 
-from elastokin.config import load_suspension, read_yaml, suspension_from_dict
+from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "configs" / "pseudo_mcpherson.yaml"
@@ -21,7 +21,7 @@ def case():
 
 @pytest.fixture(scope="session")
 def case_design(case):
-    from elastokin.model import design_state
+    from elastokin.mbs.model import design_state
 
     return design_state(case)
 

@@ -15,10 +15,10 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from elastokin import adams
-from elastokin.cli import main
-from elastokin.config import read_yaml, suspension_from_dict
+from elastokin.cli.main import main
+from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
+from elastokin.formats import adams
 
 DATA = Path(__file__).parent / "data"
 ADAMS = DATA / "adams"
@@ -40,7 +40,7 @@ def travel_only(cfg: dict) -> dict:
 
 
 def steer_amplitude(cfg: dict, name: str) -> float:
-    from elastokin.study import run_vertical_kc
+    from elastokin.studies.kc_job import run_vertical_kc
 
     run = run_vertical_kc(suspension_from_dict(travel_only(cfg), name))
     return run.models["initial"].summary()["steer_amplitude_deg"]
@@ -311,7 +311,7 @@ def test_mapping_errors_name_file_and_key(tmp_path, content, words):
 def mcpherson():
     """The shipped pseudo-McPherson without its CMM measurements (its own Table 2 geometry),
     resolved, with its balanced design preloads."""
-    from elastokin.model import design_state
+    from elastokin.mbs.model import design_state
 
     data = read_yaml(Path(__file__).parents[1] / "configs" / "pseudo_mcpherson.yaml")[0]
     del data["measurements"]
@@ -344,7 +344,7 @@ def test_export_is_deterministic_and_reads_back(tmp_path, mcpherson):
 
 
 def test_export_iso_frame_and_nonlinear_curve(tmp_path):
-    from elastokin.model import design_state
+    from elastokin.mbs.model import design_state
 
     s = suspension_from_dict(read_yaml(WISHBONE)[0], "double_wishbone.yaml")
     adams.export_adams(s, tmp_path, design_state(s).bushing_preload, range_mm=5.0,
@@ -431,7 +431,7 @@ def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
 
 
 def test_round_trip_iso_frame_double_wishbone(tmp_path):
-    from elastokin.model import design_state
+    from elastokin.mbs.model import design_state
 
     data = read_yaml(WISHBONE)[0]
     s = suspension_from_dict(data, "double_wishbone.yaml")
@@ -479,8 +479,8 @@ def test_cli_export_then_import(tmp_path, case_path):
 
 
 def test_cli_export_identified_with_kc(tmp_path, case_path):
-    from elastokin.config import load_suspension
-    from elastokin.identify import identify
+    from elastokin.config.loading import load_suspension
+    from elastokin.identification.geometric import identify
 
     kc = tmp_path / "kc.csv"
     kc.write_text("model,load_case,step,branch,toe_deg,wheel_centre_x_mm\n"

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from elastokin.laws import DirectionLaw
-from elastokin.model import DesignState, ModelOptions, build_model
+from elastokin.mbs.model import DesignState, ModelOptions, build_model
+from elastokin.physics.laws import DirectionLaw
 
 from .conftest import make_suspension
 

@@ -9,7 +9,9 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from elastokin.characteristics import (
+from elastokin.config.schema import Frame
+from elastokin.config.suspension import Suspension
+from elastokin.physics.steering_geometry import (
     axis_from_points,
     axis_ground_point,
     caster_deg,
@@ -25,8 +27,7 @@ from elastokin.characteristics import (
     wheel_centre_displacement,
     wheel_ground_directions,
 )
-from elastokin.config import Frame, Suspension
-from elastokin.geometry import camber_deg, toe_deg
+from elastokin.physics.wheel import camber_deg, toe_deg
 
 # tolerances: the hand cases are exact up to rounding (1e-9); the screw axis recovered from a
 # 0.01 deg finite motion loses ~1/angle digits of the position (1e-6 mm is ample)
@@ -175,7 +176,7 @@ def test_random_geometry_frame_invariant(caster, kpi, toe, camber, ahead, inboar
     assert ref0["trail"] == pytest.approx(ahead, abs=1e-9)
     assert ref0["scrub"] == pytest.approx(inboard, abs=1e-9)
     # with toe and camber, the same numbers in every frame and side
-    from elastokin.geometry import spin_axis_from_angles
+    from elastokin.physics.wheel import spin_axis_from_angles
 
     a = spin_axis_from_angles(toe, camber, FWD, OUT, UP)
     ref = all_characteristics(p, d, W, a, FWD, OUT, UP)

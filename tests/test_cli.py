@@ -7,8 +7,8 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from elastokin.cli import main
-from elastokin.config import load_suspension
+from elastokin.cli.main import main
+from elastokin.config.loading import load_suspension
 
 
 def run_kc(config, out):

@@ -12,11 +12,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from elastokin import doe
-from elastokin.cli import main
-from elastokin.config import read_yaml
+from elastokin.cli.main import main
+from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError, ElastokinError
-from elastokin.kc import parallel_travel, steer_amplitude_deg
+from elastokin.rig.load_cases import parallel_travel, steer_amplitude_deg
+from elastokin.studies import doe
 
 
 def run_doe(config, out, *args):

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 from click.testing import CliRunner
 
-from elastokin.cli import main
-from elastokin.config import load_suspension
-from elastokin.geometry import slope
-from elastokin.kc import parallel_travel, static_equilibrium
-from elastokin.model import ModelOptions, build_model, design_state
+from elastokin.cli.main import main
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.model import ModelOptions, build_model, design_state
+from elastokin.physics.wheel import slope
+from elastokin.rig.load_cases import parallel_travel, static_equilibrium
 
 DW = Path(__file__).parent / "data" / "double_wishbone.yaml"
 
@@ -49,7 +49,7 @@ def test_rack_travel_steers_the_wheel():
     design position), so the spring carries a given preload."""
     import copy
 
-    from elastokin.config import read_yaml, suspension_from_dict
+    from elastokin.config.loading import read_yaml, suspension_from_dict
 
     data = read_yaml(DW)[0]
     toe = {}
@@ -61,7 +61,7 @@ def test_rack_travel_steers_the_wheel():
         model = build_model(suspension_from_dict(d, "dw.yaml"))
         toe[travel] = static_equilibrium(model).state.spin_axis
     s = load_suspension(DW)
-    from elastokin.geometry import toe_deg
+    from elastokin.physics.wheel import toe_deg
 
     delta = toe_deg(toe[3.0], s.forward, s.outboard) - toe_deg(toe[0.0], s.forward, s.outboard)
     # small-angle estimate: 3 mm over the ~130 mm tie-rod arm behind the steering axis

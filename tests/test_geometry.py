@@ -3,7 +3,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.geometry import camber_deg, slope, spin_axis_from_angles, toe_deg
+from elastokin.physics.wheel import camber_deg, slope, spin_axis_from_angles, toe_deg
 
 # ADAMS/Car frame (x rearward, y right), left wheel: forward = -x, outboard = -y
 FWD, OUT, UP = np.array([-1.0, 0, 0]), np.array([0, -1.0, 0]), np.array([0, 0, 1.0])

@@ -10,13 +10,14 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from elastokin.cli import main
-from elastokin.config import ClearanceSpec, read_yaml, suspension_from_dict
+from elastokin.cli.main import main
+from elastokin.config.loading import read_yaml, suspension_from_dict
+from elastokin.config.schema import ClearanceSpec
 from elastokin.errors import MeasurementError
-from elastokin.identify import identify
-from elastokin.measurements import read_points, write_points
-from elastokin.pose import clearance_bound_mm, pose_error_gain
-from elastokin.synthesize import synthesize
+from elastokin.formats.cmm import read_points, write_points
+from elastokin.identification.geometric import identify
+from elastokin.physics.pose import clearance_bound_mm, pose_error_gain
+from elastokin.synthetic.virtual_cmm import synthesize
 
 from .conftest import CASE
 
@@ -212,7 +213,7 @@ def test_csv_files_identify_like_iges(tmp_path, ident):
         m["assembly"]["file"] = m["assembly"]["file"].replace(".igs", ".csv")
 
     path, _ = measured_copy(tmp_path, to_csv)
-    from elastokin.config import load_suspension
+    from elastokin.config.loading import load_suspension
 
     other = identify(load_suspension(path))
     for n, j in ident.joints.items():

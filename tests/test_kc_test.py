@@ -12,8 +12,14 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from elastokin.cli import main
-from elastokin.comparison import (
+from elastokin.cli.main import main
+from elastokin.config.loading import load_rig, load_suspension, read_yaml, suspension_from_dict
+from elastokin.config.schema import ForceSweepSpec, RigSpec, TorqueSweepSpec
+from elastokin.errors import MeasurementError
+from elastokin.formats.kc_test import read_kc_test, write_kc_test
+from elastokin.mbs.model import ModelOptions, SuspensionModel
+from elastokin.rig.load_cases import Sweep, parallel_travel, static_equilibrium, steer_amplitude_deg
+from elastokin.studies.comparison import (
     ERRORS,
     curve_error_rms,
     read_test_sweeps,
@@ -21,26 +27,13 @@ from elastokin.comparison import (
     to_sweep,
     travel_stroke_note,
 )
-from elastokin.config import (
-    ForceSweepSpec,
-    RigSpec,
-    TorqueSweepSpec,
-    load_rig,
-    load_suspension,
-    read_yaml,
-    suspension_from_dict,
-)
-from elastokin.errors import MeasurementError
-from elastokin.kc import Sweep, parallel_travel, static_equilibrium, steer_amplitude_deg
-from elastokin.model import ModelOptions, SuspensionModel
-from elastokin.real_suspension import (
+from elastokin.synthetic.real_suspension import (
     kc_test_channels,
     progressive_law,
     real_suspension_model,
     write_kc_test_files,
 )
-from elastokin.synthesize import as_built, clearance_shifts
-from elastokin.testdata import read_kc_test, write_kc_test
+from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
 
 from .conftest import CASE
 

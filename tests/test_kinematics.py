@@ -8,9 +8,9 @@ import pytest
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
-from elastokin.geometry import camber_deg, toe_deg
-from elastokin.kc import parallel_travel, travel_path
-from elastokin.model import ModelOptions, build_model
+from elastokin.mbs.model import ModelOptions, build_model
+from elastokin.physics.wheel import camber_deg, toe_deg
+from elastokin.rig.load_cases import parallel_travel, travel_path
 
 from .conftest import make_suspension
 

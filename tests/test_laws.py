@@ -2,7 +2,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.laws import DirectionLaw
+from elastokin.physics.laws import DirectionLaw
 
 
 def progressive():

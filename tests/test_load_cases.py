@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from elastokin.kc import (
+from elastokin.mbs.model import ModelOptions, build_model
+from elastokin.rig.load_cases import (
     GRADIENTS,
     ModelResult,
     compliance_matrix,
@@ -12,7 +13,6 @@ from elastokin.kc import (
     static_equilibrium,
     sweep_path,
 )
-from elastokin.model import ModelOptions, build_model
 
 
 @pytest.fixture(scope="module")

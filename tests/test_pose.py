@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from elastokin.errors import MeasurementError
-from elastokin.pose import (
+from elastokin.physics.pose import (
     _passing,
     clearance_bound_mm,
     deflection_operator,

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from elastokin.kc import static_equilibrium
-from elastokin.model import ModelOptions, build_model, path_hinges
+from elastokin.mbs.model import ModelOptions, build_model, path_hinges
+from elastokin.rig.load_cases import static_equilibrium
 
 
 @pytest.fixture(scope="module")

@@ -12,22 +12,22 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from elastokin import characteristics as ch
-from elastokin.cli import main
-from elastokin.config import load_suspension, read_yaml, suspension_from_dict
-from elastokin.kc import (
+from elastokin.cli.main import main
+from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
+from elastokin.mbs.model import ModelOptions, PartPoses, StepState, build_model, design_state
+from elastokin.physics import steering_geometry as ch
+from elastokin.physics.steering_axis import (
+    _null_spaces,
+    steering_axes_from_poses,
+    steering_skeleton,
+)
+from elastokin.rig.load_cases import (
     STEERING_AXIS_COLUMNS,
     ModelResult,
     SteeringAxisWarning,
     parallel_travel,
     static_equilibrium,
     steering_axis_columns,
-)
-from elastokin.model import ModelOptions, PartPoses, StepState, build_model, design_state
-from elastokin.steering_axis import (
-    _null_spaces,
-    steering_axes_from_poses,
-    steering_skeleton,
 )
 
 ROOT = Path(__file__).parent.parent
@@ -201,7 +201,7 @@ def test_summary_is_the_travel_zero_row_and_the_static_state(tmp_path):
 
 def test_summary_without_steering_columns_is_none():
     """Test data (no steering-axis channels) and a sweep without the zero pad height."""
-    from elastokin.kc import Sweep
+    from elastokin.rig.load_cases import Sweep
 
     sw = Sweep("test", "parallel_travel", {"branch": np.array(["stroke"] * 3),
                                            "pad_z_mm": np.array([1.0, 2.0, 3.0]),

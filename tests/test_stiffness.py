@@ -7,18 +7,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.config import StiffnessIdentificationSpec
+from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.errors import ConfigError
-from elastokin.kc import run_load_cases
-from elastokin.laws import DirectionLaw, ProgressiveLaw
-from elastokin.model import design_state
-from elastokin.stiffness import (
+from elastokin.identification.stiffness import (
     Residuals,
     effective_residual_count,
     identify_stiffness,
     stiffness_config,
     with_stiffness,
 )
+from elastokin.mbs.model import design_state
+from elastokin.physics.laws import DirectionLaw, ProgressiveLaw
+from elastokin.rig.load_cases import run_load_cases
 
 from .conftest import make_suspension
 
@@ -88,7 +88,7 @@ def test_reweighting_by_hand(coarse):
 @pytest.fixture(scope="module")
 def coarse():
     """The nominal pseudo-McPherson on a coarse rig (fast sweeps) and its design preloads."""
-    from elastokin.config import read_yaml
+    from elastokin.config.loading import read_yaml
 
     from .conftest import CASE
 
@@ -183,9 +183,9 @@ def test_parameter_without_effect_is_flagged_not_determined(coarse):
 
 
 def test_fitted_config_reproduces_the_fitted_model(coarse):
-    from elastokin.config import read_yaml
-    from elastokin.kc import static_equilibrium
-    from elastokin.model import build_model
+    from elastokin.config.loading import read_yaml
+    from elastokin.mbs.model import build_model
+    from elastokin.rig.load_cases import static_equilibrium
 
     from .conftest import CASE
 

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from elastokin.errors import MeasurementError
-from elastokin.testdata import (
+from elastokin.formats.kc_test import (
     CHANNELS,
     LOAD_CASES,
     MAX_BRANCHES,

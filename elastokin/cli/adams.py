@@ -1,0 +1,157 @@
+"""``elastokin import-adams`` and ``elastokin export-adams`` (ADAMS/Car files, see docs/adams.md).
+
+Units at every
+interface: mm, N, N*mm, deg; ADAMS files are converted on reading and written in mm, newton,
+degrees. Input errors end in one line on stderr and exit code 1.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+from pathlib import Path
+
+import click
+
+from elastokin.cli.common import Output, fail
+from elastokin.errors import ConfigError, ElastokinError
+
+
+def _bushing_option(values: tuple[str, ...]) -> dict[str, Path]:
+    out = {}
+    for v in values:
+        name, sep, file = v.partition("=")
+        if not sep or not name.strip() or not file.strip():
+            raise ConfigError(f"--bushing {v!r}: expected NAME=FILE.bus (an elastokin bushing "
+                              "name and a bushing property file)")
+        if name.strip() in out:
+            raise ConfigError(f"--bushing: bushing '{name.strip()}' is given twice")
+        out[name.strip()] = Path(file.strip())
+    return out
+
+
+def _sha(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()[:12]
+    except OSError:
+        return "unreadable"
+
+
+@click.command("import-adams")
+@click.option("--hardpoints", "hardpoints_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="ADAMS/Car hardpoint table: a TeimOrbit file (.sub or table) with "
+                   "{hardpoint_name symmetry x_value y_value z_value}.")
+@click.option("--mapping", "mapping_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Mapping file (YAML, docs/adams.md): elastokin hardpoint -> ADAMS "
+                   "hardpoint and side; optionally elastokin bushing -> .bus file.")
+@click.option("--template", "template_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="elastokin config whose topology, parts and laws are kept.")
+@click.option("--bushing", "bushings", multiple=True, metavar="NAME=FILE.bus",
+              help="Bushing property file for an elastokin bushing (repeatable; overrides the "
+                   "mapping file's 'bushings').")
+@click.option("--out", "out_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="The new elastokin config (YAML); written only when it is valid.")
+def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
+                 bushings: tuple[str, ...], out_path: Path) -> None:
+    """Build an elastokin config from ADAMS/Car files: the template config with its hardpoints
+    from an ADAMS hardpoint table (converted from the ADAMS frame, X rearward / Y right / Z up,
+    to the template's frame) and the stiffness of the named bushings from .bus files."""
+    from elastokin.config.loading import read_yaml, suspension_from_dict
+    from elastokin.formats.adams import dump_config, import_adams, read_mapping
+
+    try:
+        template, _ = read_yaml(template_path)
+        bus_files = _bushing_option(bushings)
+        cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
+                                     f"template {template_path}")
+        bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
+        for key in ("measurements", "kc_test"):
+            m = cfg.get(key)
+            if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
+                # keep the CMM / K&C test files found from the new config's folder
+                target = template_path.parent / m.get("folder", ".")
+                rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
+                m["folder"] = Path(rel).as_posix()
+        suspension_from_dict(cfg, str(out_path))  # the new config must be valid
+        sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
+                   f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
+                   f"template {template_path} (sha256 {_sha(template_path)})",
+                   *(f"bushing {n}: {f} (sha256 {_sha(f)})" for n, f in bus_files.items())]
+        header = "\n".join(
+            ["elastokin config imported from ADAMS/Car files by elastokin import-adams:",
+             *(f"  {s}" for s in sources),
+             "Units: lengths mm, forces N, torques N*mm, angles deg; hardpoints converted from "
+             "the ADAMS/Car",
+             f"frame (X rearward, Y right, Z up) to this config's frame (x {cfg['frame']['x']}, "
+             f"y {cfg['frame']['y']}, z up)."])
+        text = dump_config(cfg, header)
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{out_path.name}.", dir=out_path.parent)
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, out_path)
+    except ElastokinError as exc:
+        fail(str(exc))
+    except OSError as exc:
+        fail(f"{out_path}: cannot write ({exc.strerror})")
+    for w in warnings:
+        click.echo(f"elastokin: warning: {w}", err=True)
+    click.echo(f"wrote {out_path}")
+
+
+@click.command("export-adams")
+@click.option("--config", "config_path", required=True,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="elastokin config (e.g. identified.yaml written by 'elastokin identify').")
+@click.option("--out", "out_dir", required=True,
+              type=click.Path(file_okay=False, path_type=Path),
+              help="Folder for the ADAMS/Car files; replaced as a whole when the export "
+                   "succeeds.")
+@click.option("--identified", is_flag=True,
+              help="Identify the geometry from the config's CMM measurements first and export "
+                   "the identified model.")
+@click.option("--kc", "kc_csv", default=None, type=click.Path(dir_okay=False, path_type=Path),
+              help="An elastokin kc.csv of this config to write with ADAMS-style channel "
+                   "names (kc_adams.csv).")
+@click.option("--range-mm", default=10.0, show_default=True, type=float,
+              help="Half-range of the tables written for linear translational rates (mm).")
+@click.option("--range-deg", default=10.0, show_default=True, type=float,
+              help="Half-range of the tables written for linear rotational rates (deg).")
+def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Path | None,
+                 range_mm: float, range_deg: float) -> None:
+    """Write ADAMS/Car files for a suspension: hardpoints.tbl (ADAMS frame, mm), one .bus file
+    per bushing (mm, newton, degrees), bushing_assembly.txt ([BUSHING_ASSEMBLY] blocks with the
+    design preloads, to paste into a subsystem file) and mapping.yaml (for import-adams)."""
+    from elastokin.config.loading import load_suspension, suspension_from_dict
+    from elastokin.formats.adams import export_adams as write_files
+    from elastokin.formats.adams import write_adams_kc_csv
+
+    try:
+        s = load_suspension(config_path)
+        if identified:
+            if s.measurements is None:
+                raise ConfigError(f"{config_path}: --identified needs a 'measurements' section")
+            from elastokin.identification.geometric import identify
+
+            ident = identify(s)
+            s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
+                                     s.sha256)
+        preload = None
+        if s.design.balance_bushing_preloads and s.bushings:
+            from elastokin.mbs.model import design_state
+
+            preload = design_state(s).bushing_preload
+        with Output(out_dir, marker="hardpoints.tbl") as tmp:
+            files = write_files(s, tmp, preload, range_mm, range_deg)
+            if kc_csv is not None:
+                write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
+                files.append(tmp / "kc_adams.csv")
+    except ElastokinError as exc:
+        fail(str(exc))
+    click.echo(f"wrote {len(files)} files in {out_dir}/: " + ", ".join(f.name for f in files))

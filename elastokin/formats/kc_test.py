@@ -1,0 +1,472 @@
+"""Kinematics-and-compliance (K&C) rig test data: one CSV file per load case.
+
+The format is documented in ``docs/kc_test_data.md``; in short::
+
+    # load_case: lateral_force
+    # rig: ABD SPMM 2 (free text, kept as notes)
+    lateral_force [kN],toe [deg],camber [deg],wheel_centre_lateral [mm]
+    0.0,0.0,0.0,0.0
+    0.1,-0.0021,0.004,0.061
+    ...
+
+UTF-8 text; optional ``#`` comment lines before the header (one may be ``# load_case: <name>``,
+the others are kept as free-text notes); one header row whose column names carry their unit in
+square brackets; then one numeric row per rig step. The first column is the load case's input
+channel. Known channels (:data:`CHANNELS`) are converted once, here, to elastokin units (mm, N,
+N*mm, deg); unknown channels are kept unconverted and reported in :attr:`KCTest.warnings`.
+
+Signs are per wheel, as :mod:`elastokin.characteristics` defines them: longitudinal forward,
+lateral outboard, vertical up; toe positive toe-in, camber positive top outboard; forces and the
+aligning torque are those the rig applies to the wheel (the torque positive in the toe-in
+sense). Every problem raises :class:`~elastokin.errors.MeasurementError` naming the file, the
+column or line, and what is expected. :func:`write_kc_test` writes the same format with
+deterministic bytes (synthetic test data regenerate exactly).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from elastokin.errors import MeasurementError
+
+__all__ = [
+    "CHANNELS",
+    "DEFAULT_JITTER_TOLERANCE",
+    "LOAD_CASES",
+    "MAX_BRANCHES",
+    "UNITS",
+    "Channel",
+    "KCTest",
+    "LoadCase",
+    "monotonic_branches",
+    "read_kc_test",
+    "write_kc_test",
+]
+
+#: accepted units per quantity and their factor to the elastokin unit (the first entry)
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"mm": 1.0, "cm": 10.0, "m": 1000.0},
+    "force": {"N": 1.0, "kN": 1000.0},
+    "torque": {"N*mm": 1.0, "N*m": 1000.0, "kN*m": 1.0e6},
+    "angle": {"deg": 1.0, "rad": 180.0 / math.pi},
+}
+
+#: spellings read as the unit on the right (after removing spaces)
+_UNIT_ALIASES = {"Nmm": "N*mm", "Nm": "N*m", "kNm": "kN*m", "°": "deg", "degree": "deg",
+                 "degrees": "deg", "radian": "rad", "radians": "rad"}
+
+
+@dataclass(frozen=True)
+class Channel:
+    """A known channel: its quantity (a key of :data:`UNITS`) and its sign convention."""
+
+    name: str
+    quantity: str
+    meaning: str
+
+    @property
+    def unit(self) -> str:
+        """The elastokin unit values are converted to."""
+        return next(iter(UNITS[self.quantity]))
+
+
+_CHANNEL_LIST = [
+    Channel("wheel_travel", "length",
+            "wheel-centre vertical displacement from the design position, bump +"),
+    Channel("toe", "angle", "toe angle, toe-in +"),
+    Channel("camber", "angle", "camber angle, top of the wheel outboard +"),
+    Channel("caster", "angle", "caster angle, steering axis top rearward +"),
+    Channel("kingpin_inclination", "angle", "kingpin inclination, steering axis top inboard +"),
+    Channel("scrub_radius", "length", "scrub radius, axis meets the ground inboard +"),
+    Channel("caster_trail", "length", "caster trail, axis meets the ground ahead +"),
+    Channel("wheel_centre_longitudinal", "length",
+            "wheel-centre displacement from the design position, forward +"),
+    Channel("wheel_centre_lateral", "length",
+            "wheel-centre displacement from the design position, outboard +"),
+    Channel("track_change", "length", "contact-point lateral displacement, outboard +"),
+    Channel("longitudinal_force", "force", "force the rig applies to the wheel, forward +"),
+    Channel("lateral_force", "force", "force the rig applies to the wheel, outboard +"),
+    Channel("vertical_force", "force", "force the rig applies to the wheel, up +"),
+    Channel("aligning_torque", "torque",
+            "moment about the vertical the rig applies to the wheel, toe-in sense +"),
+]
+#: known channels by name
+CHANNELS: dict[str, Channel] = {c.name: c for c in _CHANNEL_LIST}
+
+
+@dataclass(frozen=True)
+class LoadCase:
+    """A load case: its input channel (the file's first column) and the measured channels it
+    must have."""
+
+    name: str
+    input: str
+    required: tuple[str, ...]
+    meaning: str
+
+
+_LOAD_CASE_LIST = [
+    LoadCase("parallel_travel", "wheel_travel", ("toe",),
+             "both wheels of the axle moved up and down together (displacement control)"),
+    LoadCase("vertical_force", "vertical_force", ("wheel_travel",),
+             "vertical force at the contact patch"),
+    LoadCase("lateral_force", "lateral_force", ("toe",), "lateral force at the contact patch"),
+    LoadCase("longitudinal_force_patch", "longitudinal_force", ("wheel_centre_longitudinal",),
+             "longitudinal force at the contact patch (braking)"),
+    LoadCase("longitudinal_force_centre", "longitudinal_force", ("wheel_centre_longitudinal",),
+             "longitudinal force at the wheel centre (traction)"),
+    LoadCase("aligning_torque", "aligning_torque", ("toe",),
+             "moment about the vertical at the contact patch"),
+]
+#: supported load cases by name
+LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in _LOAD_CASE_LIST}
+
+#: a sweep may have at most this many monotonic branches (e.g. 0 -> +max -> -max -> 0)
+MAX_BRANCHES = 3
+#: reversals of the input smaller than this fraction of its range are jitter, not turning points
+DEFAULT_JITTER_TOLERANCE = 0.01
+
+
+@dataclass
+class KCTest:
+    """One load case measured on a K&C rig, in elastokin units.
+
+    ``channels``: name -> values per rig step (file order; the input channel first);
+    ``units``: name -> unit of the values (the elastokin unit for known channels, the file's
+    unit, possibly ``""``, for unknown ones); ``branches``: the monotonic branches of the input
+    as slices (neighbours share their turning point); ``notes``: the file's free-text comment
+    lines; ``warnings``: what a user should be told (unknown channels).
+    """
+
+    load_case: str
+    input_channel: str
+    channels: dict[str, np.ndarray]
+    units: dict[str, str]
+    source: str
+    notes: list[str] = field(default_factory=list)
+    unknown_channels: tuple[str, ...] = ()
+    branches: tuple[slice, ...] = ()
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def input(self) -> np.ndarray:
+        """The input channel's values."""
+        return self.channels[self.input_channel]
+
+    @property
+    def steps(self) -> int:
+        """Number of rig steps (data rows)."""
+        return int(self.input.size)
+
+
+# ------------------------------------------------------------------------------------ helpers
+
+
+def _normalise_name(name: str) -> str:
+    return re.sub(r"[\s\-]+", "_", name.strip()).lower()
+
+
+def _normalise_unit(unit: str) -> str:
+    u = re.sub(r"\s+", "", unit)
+    u = re.sub(r"[·⋅.]", "*", u)
+    return _UNIT_ALIASES.get(u, u)
+
+
+def _accepted(quantity: str) -> str:
+    return ", ".join(UNITS[quantity])
+
+
+_HEADER = re.compile(r"^(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?$")
+
+
+def _parse_header_cell(path: Path, cell: str, column: int) -> tuple[str, str | None]:
+    text = cell.strip()
+    m = _HEADER.match(text)
+    if m is None:
+        raise MeasurementError(f"{path}: header, column {column} '{text}': malformed column "
+                               "name (expected 'name [unit]', e.g. 'toe [deg]')")
+    name = m.group("name")
+    if not name:
+        raise MeasurementError(f"{path}: header, column {column}: empty column name "
+                               "(expected 'name [unit]', e.g. 'toe [deg]')")
+    paren = re.match(r"^(.*?)\s*\(([^()]*)\)$", name)
+    if m.group("unit") is None and paren:
+        raise MeasurementError(f"{path}: header, column {column} '{text}': units go in square "
+                               f"brackets: '{paren.group(1)} [{paren.group(2)}]'")
+    return _normalise_name(name), m.group("unit")
+
+
+def _load_case_from_name(path: Path) -> str | None:
+    stem = path.stem.lower()
+    hits = [n for n in LOAD_CASES if stem == n or re.search(rf"[_\-.]{n}$", stem)]
+    return max(hits, key=len) if hits else None
+
+
+def monotonic_branches(x, jitter_tolerance: float = DEFAULT_JITTER_TOLERANCE) -> list[int]:
+    """Turning points of a sweep: indices where the input reverses by more than
+    ``jitter_tolerance`` times its range (peak detection with hysteresis; smaller reversals
+    are jitter and ignored). ``len(result) + 1`` is the number of monotonic branches."""
+    x = np.asarray(x, float)
+    tol = jitter_tolerance * float(np.ptp(x)) if x.size else 0.0
+    turns: list[int] = []
+    direction = 0  # +1 rising, -1 falling, 0 not yet away from the start by more than tol
+    ext = 0  # index of the extreme reached in the current direction
+    for i in range(1, x.size):
+        if direction == 0:
+            if abs(x[i] - x[0]) > tol:
+                direction, ext = (1 if x[i] > x[0] else -1), i
+        elif direction * (x[i] - x[ext]) >= 0:
+            ext = i
+        elif direction * (x[ext] - x[i]) > tol:
+            turns.append(ext)
+            direction, ext = -direction, i
+    return turns
+
+
+def _branches(turns: list[int], n: int) -> tuple[slice, ...]:
+    edges = [0, *turns, n - 1]
+    return tuple(slice(a, b + 1) for a, b in zip(edges[:-1], edges[1:]))
+
+
+def _check_sweep(path, column: str, x: np.ndarray, lines: Sequence[int],
+                 jitter_tolerance: float) -> tuple[slice, ...]:
+    if x.size < 2:
+        raise MeasurementError(f"{path}: {x.size} data row(s); a sweep needs at least 2")
+    if np.ptp(x) == 0:
+        raise MeasurementError(f"{path}: column '{column}': the input channel is constant "
+                               f"({x[0]:g}); a sweep must vary its input")
+    turns = monotonic_branches(x, jitter_tolerance)
+    if len(turns) + 1 > MAX_BRANCHES:
+        where = ", ".join(str(lines[i]) for i in turns[:6]) + (", ..." if len(turns) > 6 else "")
+        raise MeasurementError(
+            f"{path}: column '{column}': the input channel is not monotonic within its branches: "
+            f"it reverses at lines {where} ({len(turns) + 1} monotonic branches; a sweep may "
+            f"have at most {MAX_BRANCHES}, e.g. 0 -> +max -> -max -> 0, and reversals up to "
+            f"{100 * jitter_tolerance:g}% of the input range are ignored as jitter)")
+    return _branches(turns, x.size)
+
+
+# --------------------------------------------------------------------------------------- read
+
+
+def read_kc_test(path: str | Path,
+                 jitter_tolerance: float = DEFAULT_JITTER_TOLERANCE) -> KCTest:
+    """Read one K&C test file (``docs/kc_test_data.md``); values converted to mm, N, N*mm, deg.
+
+    ``jitter_tolerance``: input reversals smaller than this fraction of the input's range do
+    not count as turning points. Raises :class:`MeasurementError` naming the file, the column or
+    line, and what is expected.
+    """
+    if not 0.0 <= jitter_tolerance < 0.5:
+        raise ValueError(f"jitter_tolerance is a fraction of the input range in [0, 0.5), "
+                         f"got {jitter_tolerance}")
+    p = Path(path)
+    try:
+        text = p.read_bytes().decode("utf-8-sig")
+    except OSError as exc:
+        raise MeasurementError(f"{p}: cannot read K&C test file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise MeasurementError(f"{p}: not UTF-8 text (byte {exc.start}); save the CSV file as "
+                               "UTF-8") from None
+
+    lines = text.splitlines()
+    notes: list[str] = []
+    declared: tuple[str, int] | None = None
+    header_at = None
+    for n, line in enumerate(lines, start=1):
+        s = line.strip()
+        if not s:
+            continue
+        if not s.startswith("#"):
+            header_at = n
+            break
+        body = s[1:].strip()
+        m = re.match(r"^load_case\s*:\s*(.*)$", body, re.IGNORECASE)
+        if m:
+            if declared is not None:
+                raise MeasurementError(f"{p}: line {n}: a second '# load_case:' line (the first "
+                                       f"is line {declared[1]})")
+            declared = (m.group(1).strip(), n)
+        else:
+            notes.append(body)
+    if header_at is None:
+        raise MeasurementError(f"{p}: no header row (expected e.g. 'wheel_travel [mm],toe [deg]' "
+                               "after the '#' comment lines)")
+
+    # load case: the comment line, else the file name
+    from_name = _load_case_from_name(p)
+    if declared is not None:
+        load_case = declared[0]
+        if load_case not in LOAD_CASES:
+            raise MeasurementError(f"{p}: line {declared[1]}: unknown load case '{load_case}' "
+                                   f"(expected one of {', '.join(LOAD_CASES)})")
+        if from_name is not None and from_name != load_case:
+            raise MeasurementError(f"{p}: line {declared[1]}: load case '{load_case}' "
+                                   f"contradicts the file name, which names '{from_name}'")
+    elif from_name is not None:
+        load_case = from_name
+    else:
+        raise MeasurementError(f"{p}: cannot tell the load case: add a line "
+                               "'# load_case: <name>' before the header or name the file "
+                               f"'<name>.csv' (load cases: {', '.join(LOAD_CASES)})")
+    case = LOAD_CASES[load_case]
+
+    # header: names, units, conversion factors
+    header_line = lines[header_at - 1]
+    if ";" in header_line and "," not in header_line:
+        raise MeasurementError(f"{p}: line {header_at}: the header is separated by ';'; save "
+                               "the file as comma-separated CSV with '.' as decimal point")
+    raw = next(csv.reader([header_line]))
+    names, units, factors = [], {}, []
+    unknown = []
+    for k, cell in enumerate(raw, start=1):
+        name, unit = _parse_header_cell(p, cell, k)
+        if name in names:
+            raise MeasurementError(f"{p}: header, column {k} '{cell.strip()}': channel "
+                                   f"'{name}' appears twice (first in column "
+                                   f"{names.index(name) + 1})")
+        names.append(name)
+        channel = CHANNELS.get(name)
+        if channel is None:
+            unknown.append(name)
+            units[name] = (unit or "").strip()
+            factors.append(1.0)
+            continue
+        expected = f"'{name} [{channel.unit}]' ({channel.quantity}: {_accepted(channel.quantity)})"
+        if unit is None or not unit.strip():
+            raise MeasurementError(f"{p}: header, column {k} '{cell.strip()}': no unit; "
+                                   f"expected {expected}")
+        factor = UNITS[channel.quantity].get(_normalise_unit(unit))
+        if factor is None:
+            raise MeasurementError(f"{p}: header, column {k} '{cell.strip()}': unit '{unit}' "
+                                   f"is not a unit of {channel.quantity}; expected {expected}")
+        units[name] = channel.unit
+        factors.append(factor)
+    display = [c.strip() for c in raw]
+
+    if names[0] != case.input:
+        inp = CHANNELS[case.input]
+        raise MeasurementError(f"{p}: header: load case '{load_case}' needs its input channel "
+                               f"'{case.input} [{inp.unit}]' as the first column; the first "
+                               f"column is '{display[0]}'")
+    missing = [c for c in case.required if c not in names]
+    if missing:
+        need = ", ".join(f"'{c} [{CHANNELS[c].unit}]'" for c in missing)
+        raise MeasurementError(f"{p}: header: load case '{load_case}' needs channel(s) {need}; "
+                               f"the file has {', '.join(display)}")
+
+    # data rows
+    rows, row_lines = [], []
+    for n in range(header_at + 1, len(lines) + 1):
+        line = lines[n - 1]
+        if not line.strip():
+            continue
+        if line.lstrip().startswith("#"):
+            raise MeasurementError(f"{p}: line {n}: '#' comment lines are allowed only before "
+                                   "the header row")
+        cells = next(csv.reader([line]))
+        if len(cells) != len(names):
+            raise MeasurementError(f"{p}: line {n}: {len(cells)} cells, the header has "
+                                   f"{len(names)} columns")
+        values = []
+        for k, c in enumerate(cells):
+            try:
+                v = float(c)
+            except ValueError:
+                v = math.nan
+                bad = f"'{c.strip()}' is not a number" if c.strip() else "empty cell"
+            else:
+                bad = f"'{c.strip()}' is not a finite number"
+            if not math.isfinite(v):
+                raise MeasurementError(f"{p}: line {n} (data row {len(rows) + 1}), column "
+                                       f"'{display[k]}': {bad}")
+            values.append(v)
+        rows.append(values)
+        row_lines.append(n)
+    data = np.array(rows, float).reshape(len(rows), len(names)) * np.array(factors)
+    channels = {name: data[:, k].copy() for k, name in enumerate(names)}
+    branches = _check_sweep(p, display[0], channels[names[0]], row_lines, jitter_tolerance)
+
+    warnings = []
+    if unknown:
+        listed = ", ".join(display[names.index(u)] for u in unknown)
+        warnings.append(f"{p}: channel(s) elastokin does not know, kept unconverted: {listed}")
+    return KCTest(load_case, case.input, channels, units, str(p), notes, tuple(unknown),
+                  branches, warnings)
+
+
+# -------------------------------------------------------------------------------------- write
+
+
+def _format(v: float, decimals: int) -> str:
+    s = f"{v:.{decimals}f}"
+    return s[1:] if re.fullmatch(r"-0\.?0*", s) else s
+
+
+def write_kc_test(path: str | Path, load_case: str, channels: Mapping[str, Sequence[float]], *,
+                  notes: Sequence[str] = (), units: Mapping[str, str] | None = None,
+                  decimals: int = 6) -> Path:
+    """Write one K&C test file; deterministic bytes (UTF-8, ``\\n`` line ends).
+
+    ``channels``: name -> values, known channels in elastokin units (mm, N, N*mm, deg); the
+    load case's input channel is written first, the others in the given order. ``units``
+    gives the unit written for unknown channels (none: no brackets). ``notes`` become ``#``
+    lines after ``# load_case:``. Values are written with ``decimals`` decimals. The data must
+    pass the checks :func:`read_kc_test` makes; they raise :class:`MeasurementError`.
+    """
+    p = Path(path)
+    if load_case not in LOAD_CASES:
+        raise MeasurementError(f"{p}: unknown load case '{load_case}' (expected one of "
+                               f"{', '.join(LOAD_CASES)})")
+    case = LOAD_CASES[load_case]
+    units = dict(units or {})
+    missing = [c for c in (case.input, *case.required) if c not in channels]
+    if missing:
+        raise MeasurementError(f"{p}: load case '{load_case}' needs channel(s) "
+                               f"{', '.join(missing)}")
+    order = [case.input, *(c for c in channels if c != case.input)]
+    arrays, header = [], []
+    for name in order:
+        if _normalise_name(name) != name or not re.fullmatch(r"[a-z0-9_]+", name):
+            raise MeasurementError(f"{p}: channel name '{name}': use lower-case letters, digits "
+                                   "and '_'")
+        values = np.asarray(channels[name], float)
+        if values.ndim != 1 or not np.all(np.isfinite(values)):
+            raise MeasurementError(f"{p}: channel '{name}': needs a 1-D array of finite values")
+        if arrays and values.size != arrays[0].size:
+            raise MeasurementError(f"{p}: channel '{name}' has {values.size} values, "
+                                   f"'{order[0]}' has {arrays[0].size}")
+        if name in CHANNELS:
+            if name in units and _normalise_unit(units[name]) != CHANNELS[name].unit:
+                raise MeasurementError(f"{p}: channel '{name}' is written in "
+                                       f"{CHANNELS[name].unit} (elastokin units); convert "
+                                       f"the values instead of giving unit '{units[name]}'")
+            unit = CHANNELS[name].unit
+        else:
+            unit = units.get(name, "")
+            if re.search(r"[\[\],\"]", unit):
+                raise MeasurementError(f"{p}: channel '{name}': unit '{unit}' may not contain "
+                                       "brackets, commas or quotes")
+        arrays.append(values)
+        header.append(f"{name} [{unit}]" if unit else name)
+    _check_sweep(p, header[0], arrays[0], list(range(1, arrays[0].size + 1)),
+                 DEFAULT_JITTER_TOLERANCE)
+
+    out = [f"# load_case: {load_case}"]
+    for note in notes:
+        for line in str(note).splitlines() or [""]:
+            if re.match(r"^\s*load_case\s*:", line, re.IGNORECASE):
+                raise MeasurementError(f"{p}: note '{line}' would read as the load case line")
+            out.append(f"# {line}".rstrip())
+    out.append(",".join(header))
+    table = np.column_stack(arrays)
+    out.extend(",".join(_format(v, decimals) for v in row) for row in table)
+    p.write_bytes(("\n".join(out) + "\n").encode("utf-8"))
+    return p

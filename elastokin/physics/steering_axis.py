@@ -1,0 +1,368 @@
+"""The steering axis at every rig step: the instantaneous screw axis of the wheel part relative
+to the ground part under a small steering input, springs locked (pure numpy).
+
+Method (velocity-level, "instant axis"; docs/characteristics.md):
+
+1. Constraints of the joint skeleton at the step's part poses: every ideal joint; every bushing
+   as its ``ideal_joint`` frozen at its current deflection (its two sleeve frames keep their
+   relative position and orientation in the joint's constrained directions, as Exudyn's
+   generic joint with that offset would); every link as a constant distance.
+2. The steering input is released: a ``rack`` joint frees its travel along its axis (the
+   rack is moved); without a rack, the one link on the wheel part (the tie rod or toe link)
+   is removed. Any other case (no such link, or several) has no steering element we can
+   name: the axis is NaN.
+3. The travel is held by locking every coil spring's length, as ADAMS/Car's instant-axis method
+   ("locks the spring travel"). Then the wheel part has one degree of freedom left (idle
+   spins of links and struts do not move it): its twist, the null space of the constraint
+   Jacobian restricted to the wheel part, is the steering motion, and its screw axis is the
+   steering axis. When the wheel part keeps 0 or more than 1 degree of freedom (no spring,
+   or a spring that does not lock the travel), or the one motion left does not move the
+   steering input (a spring that locks the steering instead of the travel), the axis is NaN,
+   never a guess.
+4. Cost: all steps at once (stacked numpy arrays): a part held only by two ball joints (an arm
+   between a bushing and a ball joint) is replaced by the distance it keeps (exact), and the
+   null space comes from a QR factorisation (SVD where rows are dependent). About 15 us per
+   step on the pseudo-McPherson.
+
+With ideal joints this is exactly the classic construction: the line through the two ball
+joints of a double wishbone; for a McPherson strut the line through the top mount that meets
+both lower-arm lines (through the lower ball joint, or the virtual one of two arms).
+
+Units: mm, rad inside; the config frame. A twist is ``(omega, v)``: angular velocity (rad per
+unit input) and the velocity (mm per unit input) of the part's reference point.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from elastokin.config.suspension import Suspension
+from elastokin.physics.joints import CONSTRAINED
+
+__all__ = ["SteeringAxes", "SteeringSkeleton", "steering_axes", "steering_axes_from_poses",
+           "steering_skeleton"]
+
+#: length (mm) scaling the rotational unknowns so that the Jacobian's columns are comparable
+_L = 1000.0
+#: relative singular-value threshold for the rank of the constraint Jacobian
+RANK_TOLERANCE = 1e-9
+#: the wheel part's twists must span one direction: second singular value below this (relative)
+ONE_DOF_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class _Element:
+    """One constraint of the skeleton at the design position."""
+
+    kind: str  # "joint" (flags in a frame) or "distance"
+    parts: tuple[str, str]
+    points: tuple[np.ndarray, np.ndarray]  # marker on each part, design position, mm
+    frame: np.ndarray | None = None  # joint frame (columns), fixed to parts[0]
+    flags: tuple[int, ...] = ()  # constrained tx ty tz rx ry rz in that frame
+    released: bool = False  # the steering input: not a constraint, its rate must not vanish
+    #: a distance kept by an eliminated two-ball-joint part: each end's point as (the part
+    #: that carries it, design position), when it is not ``(parts[k], points[k])``
+    anchors: tuple[tuple[str, np.ndarray], tuple[str, np.ndarray]] | None = None
+
+
+@dataclass(frozen=True)
+class SteeringSkeleton:
+    """The constraints used for the steering axis (see the module doc), or ``reason`` why the
+    suspension has none that can be computed."""
+
+    ground: str
+    wheel_part: str
+    elements: tuple[_Element, ...]
+    steering: str  # what was released, for the record
+    reason: str | None = None
+    eliminated: tuple[str, ...] = ()  # two-ball-joint parts replaced by distances
+
+
+def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
+    """Constraint skeleton of ``suspension`` for the steering axis: steering released,
+    springs locked."""
+    s = suspension
+    wheel = s.wheel.part
+    elements: list[_Element] = []
+    racks = [j for j in s.joints if j.kind == "rack"]
+    steer_links = [lk for lk in s.links if wheel in lk.parts]
+    reason = None
+    if racks:
+        steering = "rack travel of " + ", ".join(f"'{j.name}'" for j in racks)
+        released_links: set[str] = set()
+    elif len(steer_links) == 1:
+        steering = f"link '{steer_links[0].name}' (tie rod) released"
+        released_links = {steer_links[0].name}
+    else:
+        steering = "none"
+        released_links = set()
+        reason = ("no steering rack and " + ("no link" if not steer_links else
+                  f"{len(steer_links)} links ({', '.join(lk.name for lk in steer_links)})")
+                  + f" on the wheel part '{wheel}': the steering input (the one tie rod or "
+                  "toe link to release) is not defined")
+    if not s.springs:
+        reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
+                            "computed with the springs locked)")
+    for j in s.joints:
+        flags = list(j.constrained)
+        shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
+            (np.asarray(j.part_shift_mm[0], float), np.asarray(j.part_shift_mm[1], float))
+        frame = np.asarray(j.frame, float)
+        points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
+                  j.position_mm + shift1)
+        if j.kind == "rack":
+            flags[2] = 0  # the rack moves along its axis (the joint frame's z)
+            elements.append(_Element("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
+                                     released=True))
+        elements.append(_Element("joint", j.parts, points, frame, tuple(flags)))
+    for b in s.bushings:
+        elements.append(_Element("joint", b.parts, (b.position_mm, b.position_mm),
+                                 np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
+    for lk in s.links:
+        elements.append(_Element("distance", lk.parts, lk.points_mm,
+                                 released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held
+        elements.append(_Element("distance", sp.parts, sp.seats_mm))
+    elements, eliminated = _eliminate_links(elements, s.ground, wheel)
+    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
+                            tuple(eliminated))
+
+
+_BALL = (1, 1, 1, 0, 0, 0)
+
+
+def _eliminate_links(elements: list[_Element], ground: str, wheel: str):
+    """Replace every part held by exactly two ball joints (a spherical joint, or a bushing
+    whose ideal joint is spherical) and nothing else, e.g. a lower arm between a bushing and
+    a ball joint, by the distance it keeps between the parts at its ends. Exact at the
+    velocity level (the part's only other motion is its idle spin about its own axis) and
+    halves the unknowns of a McPherson."""
+    touching: dict[str, list[tuple[int, int]]] = {}
+    for i, e in enumerate(elements):
+        for side, part in enumerate(e.parts):
+            touching.setdefault(part, []).append((i, side))
+    out, used, eliminated = list(elements), set(), []
+    for part, uses in touching.items():
+        if part in (ground, wheel) or len(uses) != 2:
+            continue
+        (i, si), (j, sj) = uses
+        ei, ej = elements[i], elements[j]
+        ends = (ei.parts[1 - si], ej.parts[1 - sj])
+        if i == j or used & {i, j} or part in ends or ends[0] == ends[1] or not all(
+                e.kind == "joint" and tuple(e.flags) == _BALL and not e.released
+                for e in (ei, ej)):
+            continue
+        used |= {i, j}
+        eliminated.append(part)
+        # a ball joint makes the velocities of its two parts equal at its second part's
+        # marker (see translation_row), so the part keeps the distance between those points
+        out.append(_Element("distance", ends, (ei.points[1 - si], ej.points[1 - sj]),
+                            anchors=((ei.parts[1], ei.points[1]), (ej.parts[1], ej.points[1]))))
+    return [e for k, e in enumerate(out) if k not in used], eliminated
+
+
+@dataclass
+class SteeringAxes:
+    """The steering axis per step: unit ``direction`` (pointing up), ``point`` on it (the point
+    closest to the wheel centre), and the ``pitch_mm_per_rad`` of the steering screw (the
+    wheel part's translation along the axis per radian of steer); NaN rows where undefined,
+    ``reason`` says why (None when every step has an axis)."""
+
+    direction: np.ndarray  # (S, 3)
+    point: np.ndarray  # (S, 3) mm
+    pitch_mm_per_rad: np.ndarray  # (S,)
+    reason: str | None
+
+
+def _nan_axes(n: int, reason: str) -> SteeringAxes:
+    return SteeringAxes(np.full((n, 3), np.nan), np.full((n, 3), np.nan), np.full(n, np.nan),
+                        reason)
+
+
+def _tait_bryan_dual(Rrel: np.ndarray) -> np.ndarray:
+    """Rows k: the vectors w_k (marker-0 frame) with d(angle_k)/dt = w_k . omega_rel for the
+    Tait-Bryan x-y-z angles of ``Rrel`` (S, 3, 3) = Rx(a) Ry(b) Rz(c)."""
+    a = np.arctan2(-Rrel[:, 1, 2], Rrel[:, 2, 2])
+    b = np.arcsin(np.clip(Rrel[:, 0, 2], -1.0, 1.0))
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+    G = np.zeros(Rrel.shape)
+    G[:, 0, 0] = 1.0
+    G[:, :, 1] = np.stack([np.zeros_like(a), ca, sa], axis=-1)
+    G[:, :, 2] = np.stack([sb, -sa * cb, ca * cb], axis=-1)
+    return np.linalg.inv(G)
+
+
+def _null_spaces(A: np.ndarray):
+    """Orthonormal null-space bases of the stacked matrices ``A`` (S, m, N): yields
+    ``(step indices, basis (s, N, nullity))`` per group of steps with the same nullity.
+
+    Fast path: Householder QR of ``A^T`` (full row rank: the null space is the trailing
+    ``N - m`` columns of Q); steps whose rows are (nearly) dependent fall back to the SVD."""
+    S, m, N = A.shape
+    todo = np.arange(S)
+    if m < N:
+        Q, R = np.linalg.qr(np.swapaxes(A, 1, 2), mode="complete")
+        diag = np.abs(np.diagonal(R[:, :m, :m], axis1=1, axis2=2))
+        full = diag.min(axis=1) > 1e-6 * diag.max(axis=1)
+        if np.any(full):
+            yield np.flatnonzero(full), Q[full][:, :, m:]
+        todo = np.flatnonzero(~full)
+    if todo.size:
+        B = A[todo]
+        if m < N:  # square it up: zero rows change no null space
+            B = np.concatenate([B, np.zeros((todo.size, N - m, N))], axis=1)
+        _, sv, Vt = np.linalg.svd(B)
+        rank = np.sum(sv > RANK_TOLERANCE * sv[:, :1], axis=1)
+        for r in np.unique(rank):
+            sel = rank == r
+            yield todo[sel], np.swapaxes(Vt[sel][:, r:, :], 1, 2)
+
+
+def _cross(a, b):
+    """Row-wise cross product of (S, 3) arrays (cheaper than np.cross for small stacks)."""
+    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=-1)
+
+
+def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
+                  position: dict[str, np.ndarray], reference: dict[str, np.ndarray],
+                  wheel_centre: np.ndarray) -> SteeringAxes:
+    """Steering axis at S steps from the part poses.
+
+    rotation[part]: (S, 3, 3) rotation from the design position; position[part]: (S, 3) mm,
+    where the part's reference point ``reference[part]`` (3,) now is. Every moving part of the
+    skeleton must be given; the ground part is not. wheel_centre: (S, 3) mm (the returned
+    point is the axis point closest to it).
+    """
+    n = len(wheel_centre)
+    if skeleton.reason is not None:
+        return _nan_axes(n, skeleton.reason)
+    parts = sorted(p for p in rotation if p not in skeleton.eliminated)
+    col = {p: 6 * i for i, p in enumerate(parts)}
+    N = 6 * len(parts)
+    eye = np.broadcast_to(np.eye(3), (n, 3, 3))
+
+    def pose(part):
+        if part == skeleton.ground:
+            return eye, None
+        return rotation[part], position[part]
+
+    def moved(part, p):
+        R, c = pose(part)
+        if c is None:
+            return np.broadcast_to(p, (n, 3))
+        return np.einsum("sij,j->si", R, p - reference[part]) + c
+
+    rows: list[np.ndarray] = []  # the constraints
+    steer: list[np.ndarray] = []  # the released steering input's rates
+
+    def translation_row(parts, q, a, rows):
+        """a . (v1(q[1]) - v0(q[0])) = 0: a (S, 3) unit, v0 / v1 the velocities of parts[0] /
+        parts[1] at the points q (S, 3)."""
+        row = np.zeros((n, N))
+        for sign, part, qk in ((-1.0, parts[0], q[0]), (1.0, parts[1], q[1])):
+            if part == skeleton.ground:
+                continue
+            r = qk - position[part]
+            k = col[part]
+            row[:, k:k + 3] += sign * _cross(r, a) / _L
+            row[:, k + 3:k + 6] += sign * a
+        rows.append(row)
+
+    def rotation_row(parts, w, rows):
+        row = np.zeros((n, N))
+        for sign, part in ((-1.0, parts[0]), (1.0, parts[1])):
+            if part != skeleton.ground:
+                row[:, col[part]:col[part] + 3] += sign * w / _L
+        rows.append(row)
+
+    for e in skeleton.elements:
+        target = steer if e.released else rows
+        if e.kind == "distance":  # d|q1 - q0|/dt = 0, each end moving with its part
+            ends = e.anchors or ((e.parts[0], e.points[0]), (e.parts[1], e.points[1]))
+            q = (moved(*ends[0]), moved(*ends[1]))
+            d = q[1] - q[0]
+            translation_row(e.parts, q, d / np.linalg.norm(d, axis=-1, keepdims=True), target)
+            continue
+        # joint: d/dt [F0^T (q1 - q0)] = F0^T (v1(q1) - v0(q1)) in the constrained directions
+        # (the joint's offset, e.g. a strut's slide or a bushing's deflection, is held in the
+        # frame of part 0, as Exudyn's generic joint does): both velocities at q1
+        q1 = moved(e.parts[1], e.points[1])
+        F0 = pose(e.parts[0])[0] @ e.frame  # (S, 3, 3) joint frame on part 0, columns = axes
+        for i in range(3):
+            if e.flags[i]:
+                translation_row(e.parts, (q1, q1), F0[:, :, i], target)
+        if any(e.flags[3:]):
+            F1 = pose(e.parts[1])[0] @ e.frame
+            dual = _tait_bryan_dual(np.swapaxes(F0, 1, 2) @ F1)
+            for i in range(3):
+                if e.flags[3 + i]:
+                    rotation_row(e.parts, np.einsum("sij,sj->si", F0, dual[:, i, :]),
+                                 target)
+    A = np.stack(rows, axis=1)  # (S, m, N)
+    E = np.stack(steer, axis=1)  # (S, r, N)
+    k = col[skeleton.wheel_part]
+    twist = np.full((n, 6), np.nan)
+    bad: str | None = None
+    for idx, null in _null_spaces(A):
+        if null.shape[2] == 0:
+            bad = bad or "the wheel part cannot move with the steering released"
+            continue
+        # the wheel part's share of each motion: (s, 6, nullity); one direction expected
+        u, w, vt = np.linalg.svd(null[:, k:k + 6, :])
+        ok = w[:, 0] > ONE_DOF_TOLERANCE
+        if null.shape[2] > 1:
+            ok &= w[:, 1] < ONE_DOF_TOLERANCE * w[:, 0]
+        if not np.all(ok):
+            bad = bad or ("the wheel part keeps " + ("no" if not np.any(w[~ok, 0] >
+                          ONE_DOF_TOLERANCE) else "more than one") + " degree of freedom with "
+                          "the steering released and the springs locked (the springs do not "
+                          "lock the travel?)")
+        # that motion must move the steering input (else it is not steering: e.g. a spring
+        # that locks the rack instead of the travel)
+        x = np.einsum("snk,sk->sn", null, vt[:, 0, :] / np.where(ok, w[:, 0], 1.0)[:, None])
+        moves = np.max(np.abs(np.einsum("srn,sn->sr", E[idx], x)), axis=1) > ONE_DOF_TOLERANCE
+        if np.any(ok & ~moves):
+            bad = bad or ("the motion left with the springs locked does not move the steering "
+                          "input (the springs lock the steering, not the travel?)")
+        ok &= moves
+        twist[idx[ok]] = u[ok, :, 0]
+    omega, v = twist[:, :3] / _L, twist[:, 3:]
+    w2 = np.sum(omega * omega, axis=-1)
+    translation = w2 < (ONE_DOF_TOLERANCE / _L) ** 2
+    if np.any(translation):
+        bad = bad or "the steering motion is a pure translation (no axis)"
+        w2 = np.where(translation, np.nan, w2)
+    c = position[skeleton.wheel_part]
+    direction = omega / np.sqrt(w2)[:, None]
+    flip = np.where(direction[:, 2:3] < 0, -1.0, 1.0)  # config z is up
+    direction = direction * flip
+    point = c + _cross(omega, v) / w2[:, None]
+    point = point + np.sum((wheel_centre - point) * direction, axis=-1)[:, None] * direction
+    pitch = np.sum(omega * v, axis=-1) / w2
+    return SteeringAxes(direction, point, pitch, bad)
+
+
+def steering_axes_from_poses(skeleton: SteeringSkeleton, poses: list,
+                             wheel_centre: np.ndarray) -> SteeringAxes:
+    """:func:`steering_axes` from one :class:`elastokin.model.PartPoses` per step (``None``
+    entries, e.g. states without poses, give NaN rows)."""
+    n = len(poses)
+    have = [i for i, p in enumerate(poses) if p is not None]
+    if not have:
+        return _nan_axes(n, "no part poses recorded for these steps")
+    first = poses[have[0]]
+    names = list(first.rotation)
+    rotation = {m: np.array([poses[i].rotation[m] for i in have]) for m in names}
+    position = {m: np.array([poses[i].displacement_mm[m] for i in have])
+                + first.reference_mm[m] for m in names}
+    axes = steering_axes(skeleton, rotation, position, dict(first.reference_mm),
+                         np.asarray(wheel_centre, float)[have])
+    if len(have) == n:
+        return axes
+    out = _nan_axes(n, axes.reason or "no part poses recorded for some steps")
+    out.direction[have], out.point[have], out.pitch_mm_per_rad[have] = \
+        axes.direction, axes.point, axes.pitch_mm_per_rad
+    return out

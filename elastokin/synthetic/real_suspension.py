@@ -1,0 +1,223 @@
+"""The synthetic "real suspension" of a case study and the K&C test files it writes.
+
+The paper's test data do not exist here, so the case study's rig data are SYNTHETIC, made from
+the config's ``kc_test.synthetic`` section:
+
+1. the **as-built** suspension of the virtual CMM (:func:`elastokin.synthesize.as_built`, with
+   the same seed, hence the same assembly-clearance shifts the CMM files were made from);
+2. **bushings that differ from the config's laws** (Table 1): per bushing, a scale on the
+   translational and rotational rates and a progressive (stiffening) law
+   ``F = scale * k * v * (1 + (v / progression)^2)`` (k the config's rate at zero, v the
+   deflection in mm or deg). Each bushing keeps the as-built design load, so the static
+   equilibrium under the wheel load, which the CMM measured, is unchanged;
+3. **dry friction in ball joints**: a Jenkins element per named spherical joint (breakaway
+   torque, presliding rotation; :class:`elastokin.model.SuspensionModel`), which makes
+   loading and unloading differ (hysteresis);
+4. optional Gaussian rig noise on the measured channels.
+
+None of this reaches the identification or the models: they know the config's laws only.
+:func:`write_kc_test_files` runs the config's rig load cases on this suspension and writes one
+K&C test CSV per load case (``docs/kc_test_data.md``), deterministic byte for byte.
+
+Units mm, N, N*mm, deg; per-wheel signs of the test format (lateral outboard +, longitudinal
+forward +, aligning torque toe-in +).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from elastokin.config.schema import RealSuspensionSpec, SyntheticSpec
+from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
+from elastokin.physics.laws import DirectionLaw
+from elastokin.rig.load_cases import Sweep, run_load_cases, static_equilibrium
+from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
+
+#: tabulation of a progressive law: points per side, out to this many progression lengths
+_TABLE_POINTS = 40
+_TABLE_SPAN = 4.0
+
+
+def progressive_law(rate: float, scale: float, progression: float | None) -> DirectionLaw:
+    """``F = scale * rate * v * (1 + (v / progression)^2)`` as a piecewise-linear law
+    (tabulated to ``_TABLE_SPAN`` progression lengths, linear beyond); ``progression``
+    None gives the linear law ``scale * rate``."""
+    if progression is None:
+        return DirectionLaw.linear(scale * rate)
+    v = np.linspace(-_TABLE_SPAN * progression, _TABLE_SPAN * progression,
+                    2 * _TABLE_POINTS + 1)
+    f = scale * rate * v * (1.0 + (v / progression) ** 2)
+    return DirectionLaw(tuple(v.tolist()), tuple(f.tolist()))
+
+
+def hidden_stiffness(suspension: Suspension) -> dict[str, dict[str, float]]:
+    """The synthetic real suspension's bushing laws in the parameters of the stiffness
+    identification (:mod:`elastokin.stiffness`): bushing -> {translation_scale, rotation_scale,
+    translation_cubic (1/mm^2), rotation_cubic (1/deg^2)}; ``cubic = progression^-2``.
+    Empty without ``kc_test.synthetic``. For reports only: never used in fitting."""
+    s = suspension
+    if s.kc_test is None or s.kc_test.synthetic is None:
+        return {}
+    out = {}
+    for b in s.bushings:
+        rb = s.kc_test.synthetic.bushings.get(b.name)
+        out[b.name] = {
+            "translation_scale": rb.translation_scale if rb else 1.0,
+            "rotation_scale": rb.rotation_scale if rb else 1.0,
+            "translation_cubic": rb.progression_mm ** -2 if rb and rb.progression_mm else 0.0,
+            "rotation_cubic": rb.progression_deg ** -2 if rb and rb.progression_deg else 0.0,
+        }
+    return out
+
+
+def _spec(suspension: Suspension) -> RealSuspensionSpec:
+    s = suspension
+    if s.kc_test is None or s.kc_test.synthetic is None:
+        raise ConfigError(f"{s.source}: no 'kc_test.synthetic' section: it describes the "
+                          "synthetic real suspension whose K&C test files are written")
+    if s.measurements is None:
+        raise ConfigError(f"{s.source}: key 'kc_test.synthetic': the real suspension is the "
+                          "as-built one of the 'measurements' section, which is missing")
+    spec = s.kc_test.synthetic
+    bushings = {b.name for b in s.bushings}
+    for name in spec.bushings:
+        if name not in bushings:
+            raise ConfigError(f"{s.source}: key 'kc_test.synthetic.bushings.{name}': no "
+                              f"bushing '{name}' (bushings: {', '.join(sorted(bushings))})")
+    spherical = {j.name for j in s.joints if j.kind == "spherical"}
+    for name, torque in spec.ball_joint_friction_Nmm.items():
+        if name not in spherical:
+            raise ConfigError(f"{s.source}: key 'kc_test.synthetic.ball_joint_friction_Nmm."
+                              f"{name}': expected a spherical joint (spherical joints: "
+                              f"{', '.join(sorted(spherical)) or 'none'})")
+        if not torque > 0:
+            raise ConfigError(f"{s.source}: key 'kc_test.synthetic.ball_joint_friction_Nmm."
+                              f"{name}': breakaway torque must be positive (N*mm), got {torque}")
+    return spec
+
+
+def _seed(suspension: Suspension, seed: int | None) -> int:
+    spec = _spec(suspension)
+    if seed is not None:
+        return seed
+    if spec.seed is not None:
+        return spec.seed
+    return (suspension.measurements.synthetic or SyntheticSpec()).seed
+
+
+def real_suspension_model(suspension: Suspension, seed: int | None = None):
+    """The Exudyn model of the synthetic real suspension (see the module docstring); ``seed``
+    (default ``kc_test.synthetic.seed``, else ``measurements.synthetic.seed``) draws the
+    as-built clearance shifts exactly as ``elastokin synthesize`` does."""
+    from elastokin.mbs.model import ModelOptions, SuspensionModel
+
+    s = suspension
+    spec = _spec(s)
+    seed = _seed(s, seed)
+    built = as_built(s, clearance_shifts(s, np.random.default_rng(seed)))
+    bushings = []
+    for b in built.suspension.bushings:
+        rb = spec.bushings.get(b.name)
+        if rb is not None:
+            laws = tuple(
+                progressive_law(law.rate_at_zero,
+                                rb.translation_scale if k < 3 else rb.rotation_scale,
+                                rb.progression_mm if k < 3 else rb.progression_deg)
+                for k, law in enumerate(b.laws))
+            b = dataclasses.replace(b, laws=laws)
+        bushings.append(b)
+    real = dataclasses.replace(built.suspension, bushings=tuple(bushings),
+                               source=f"{s.source} (synthetic real suspension)")
+    # each real bushing carries, at the as-built static equilibrium (what the CMM measured),
+    # the as-built bushing's load there: the same state is the real suspension's equilibrium
+    reference = SuspensionModel(built.suspension, ModelOptions(),
+                                bushing_preload=built.bushing_preload,
+                                spring_force_N=built.spring_force_N)
+    settled = static_equilibrium(reference).state
+    as_built_laws = {b.name: b.laws for b in built.suspension.bushings}
+    preload = dict(built.bushing_preload)
+    for b in real.bushings:
+        if b.name in spec.bushings:
+            u0 = np.array([law.deflection_at(f) for law, f in
+                           zip(as_built_laws[b.name], built.bushing_preload[b.name])])
+            change = settled.bushing_deflection[b.name] - u0  # design -> static, geometric
+            at_static = np.array([law.deflection_at(f) for law, f in
+                                  zip(b.laws, settled.bushing_load[b.name])])
+            preload[b.name] = np.array([law(u) for law, u in zip(b.laws, at_static - change)])
+    return SuspensionModel(real, ModelOptions(), bushing_preload=preload,
+                           spring_force_N=built.spring_force_N,
+                           joint_friction_Nmm=spec.ball_joint_friction_Nmm,
+                           presliding_deg=spec.presliding_deg, substeps=spec.substeps)
+
+
+def run_real_suspension(suspension: Suspension, seed: int | None = None) -> list[Sweep]:
+    """Every load case of the config's rig on the synthetic real suspension."""
+    return run_load_cases(real_suspension_model(suspension, seed), "test")
+
+
+def kc_test_channels(sweep: Sweep, suspension: Suspension) -> dict[str, np.ndarray]:
+    """A sweep's columns as K&C test channels (``docs/kc_test_data.md``): the input first,
+    per-wheel signs (lateral outboard +, aligning torque toe-in +), elastokin units."""
+    s = suspension
+    c = sweep.columns
+    lateral_sign = float(s.left @ s.outboard)  # +1 on a left wheel, -1 on a right wheel
+    inputs = {
+        "parallel_travel": ("wheel_travel", c["wheel_travel_mm"]),
+        "vertical_force": ("vertical_force", c.get("vertical_force_N")),
+        "lateral_force": ("lateral_force", lateral_sign * c.get("lateral_force_N", 0.0)),
+        "longitudinal_force_patch": ("longitudinal_force", c.get("longitudinal_force_N")),
+        "longitudinal_force_centre": ("longitudinal_force", c.get("longitudinal_force_N")),
+        # a torque about +up turns a left wheel's front outboard (toe-out): toe-in sense is -up
+        "aligning_torque": ("aligning_torque", -lateral_sign * c.get("aligning_torque_Nmm",
+                                                                       0.0)),
+    }
+    name, values = inputs[sweep.load_case]
+    out = {name: np.asarray(values, float)}
+    if sweep.load_case != "parallel_travel":
+        out["wheel_travel"] = c["wheel_travel_mm"]
+    out["toe"] = c["toe_deg"]
+    out["camber"] = c["camber_deg"]
+    out["wheel_centre_longitudinal"] = c["wheel_centre_longitudinal_mm"]
+    out["wheel_centre_lateral"] = lateral_sign * c["wheel_centre_lateral_mm"]
+    return out
+
+
+def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
+                        sweeps: list[Sweep] | None = None,
+                        seed: int | None = None) -> list[Path]:
+    """Run the real suspension on the rig and write one K&C test CSV per load case into
+    ``folder`` (default: ``kc_test.folder`` beside the config). Returns the paths."""
+    from elastokin.formats.kc_test import write_kc_test
+
+    s = suspension
+    spec = _spec(s)
+    folder = Path(folder) if folder is not None else Path(s.source).parent / s.kc_test.folder
+    folder.mkdir(parents=True, exist_ok=True)
+    seed = _seed(s, seed)
+    sweeps = sweeps if sweeps is not None else run_real_suspension(s, seed)
+    rng = np.random.default_rng([seed, 1])  # independent of the CMM noise stream
+    paths = []
+    for sw in sweeps:
+        channels = kc_test_channels(sw, s)
+        rig_input = next(iter(channels))  # the rig's set point: written without noise
+        for name, values in channels.items():
+            if name == rig_input:
+                continue
+            sd = spec.noise.angle_deg if name in ("toe", "camber") else spec.noise.length_mm
+            if sd > 0:
+                channels[name] = values + rng.normal(scale=sd, size=values.size)
+        notes = [
+            "SYNTHETIC K&C test data: the synthetic real suspension of elastokin "
+            "(as-built + progressive bushings + ball-joint friction),",
+            f"written by `elastokin synthesize --config {Path(s.source).name}`, seed {seed}; "
+            "see README 'Case study data'.",
+            "units: mm, N, N*mm, deg; per-wheel signs (lateral outboard +, longitudinal "
+            "forward +, aligning torque toe-in +)",
+        ]
+        paths.append(write_kc_test(folder / f"{sw.load_case}.csv", sw.load_case, channels,
+                                   notes=notes))
+    return paths
