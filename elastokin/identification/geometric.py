@@ -37,7 +37,8 @@ import numpy as np
 import yaml
 
 from elastokin.config.loading import suspension_from_dict
-from elastokin.config.schema import BushingSpec, LinkSpec, MeasurementsSpec, SuspensionFile
+from elastokin.config.measurements import check_measurements, hardpoint_name
+from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError, MeasurementError
 from elastokin.formats.cmm import read_points
@@ -199,45 +200,6 @@ class Identification:
 # ---------------------------------------------------------------------------- identification
 
 
-def _check_spec(s: Suspension, m: MeasurementsSpec, key: str) -> None:
-    def fail(k, msg):
-        return ConfigError(f"{s.source}: key '{key}.{k}': {msg}")
-
-    needed = [s.ground, *s.parts]
-    for p in needed:
-        if p not in m.parts:
-            raise fail("parts", f"no measurement file for part '{p}' (every part and the "
-                       f"ground '{s.ground}' are measured alone)")
-        if p not in m.assembly.marks:
-            raise fail("assembly.marks", f"no label pattern for part '{p}'")
-    for p in [*m.parts, *m.assembly.marks]:
-        if p not in needed:
-            raise fail("parts", f"part '{p}' is not a part of the suspension "
-                       f"({', '.join(needed)})")
-    connections = s.raw.get("connections", {})
-    for name, jm in m.joints.items():
-        if name not in connections:
-            raise fail(f"joints.{name}", f"'{name}' is not a connection of the suspension")
-        parts = tuple(connections[name].get("parts", ()))
-        side = jm.inner or jm.bolted
-        if side is not None and side not in parts:
-            raise fail(f"joints.{name}", f"part '{side}' is not one of the joint's parts "
-                       f"({', '.join(parts)})")
-    for b in s.bushings:
-        jm = m.joints.get(b.name)
-        if jm is None or jm.inner is None:
-            raise fail(f"joints.{b.name}.inner",
-                       f"bushing '{b.name}': say which part holds the inner (bolted) sleeve: "
-                       f"'{b.parts[0]}' or '{b.parts[1]}'")
-
-
-def _name(p, key: str, source: str) -> str:
-    if not isinstance(p, str):
-        raise ConfigError(f"{source}: key '{key}': give a hardpoint name (not coordinates) "
-                          "so that its measurement can be found")
-    return p
-
-
 class _Features:
     """Measured features of every part, mapped to the vehicle frame by the part poses."""
 
@@ -294,7 +256,7 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: nothing to identify")
     key = "measurements"
-    _check_spec(s, m, key)
+    check_measurements(s, m, key)
     folder = Path(s.source).parent / m.folder
     progress("reading measurements")
     parts = {p: read_part(p, spec, folder) for p, spec in m.parts.items()}
@@ -339,12 +301,12 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
         jm = m.joints.get(name)
         if isinstance(c, LinkSpec):
             for part, at in zip(c.parts, c.at):
-                hp = _name(at, ckey + ".at", s.source)
+                hp = hardpoint_name(at, ckey + ".at", s.source)
                 x = feats.point(part, hp, f"end of link '{name}'")
                 place(hp, x, x)
                 joints[f"{name}:{hp}"] = JointResult(f"{name}:{hp}", "link end", x, x)
             continue
-        hp = _name(c.at, ckey + ".at", s.source)
+        hp = hardpoint_name(c.at, ckey + ".at", s.source)
         dl = jm.clearance.max_shift_mm if jm is not None and jm.clearance else None
         if isinstance(c, BushingSpec):
             inner = jm.inner
@@ -384,11 +346,11 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
             axes_measured[name] = np.mean(a, axis=0) / np.linalg.norm(np.mean(a, axis=0))
     for sname, sp in spec_file.springs.items():
         for part, seat in zip(sp.parts, sp.seats):
-            hp = _name(seat, f"springs.{sname}.seats", s.source)
+            hp = hardpoint_name(seat, f"springs.{sname}.seats", s.source)
             x = feats.point(part, hp, f"seat of spring '{sname}'")
             place(hp, x, x)
     w = raw["wheel"]
-    hp = _name(w["centre"], "wheel.centre", s.source)
+    hp = hardpoint_name(w["centre"], "wheel.centre", s.source)
     x = feats.point(w["part"], hp, "wheel centre")
     place(hp, x, x)
     spin = feats.axis(w["part"], hp, "wheel spin axis") if feats.has(

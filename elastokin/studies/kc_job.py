@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from elastokin.config.loading import suspension_from_dict
+from elastokin.config.measurements import hidden_stiffness
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 from elastokin.identification.geometric import Identification, identify
@@ -26,7 +27,6 @@ from elastokin.rig.load_cases import (
     static_equilibrium,
 )
 from elastokin.studies.comparison import model_errors, read_test_sweeps, travel_stroke_note
-from elastokin.synthetic.real_suspension import hidden_stiffness
 
 
 @dataclass

@@ -54,26 +54,6 @@ def progressive_law(rate: float, scale: float, progression: float | None) -> Dir
     return DirectionLaw(tuple(v.tolist()), tuple(f.tolist()))
 
 
-def hidden_stiffness(suspension: Suspension) -> dict[str, dict[str, float]]:
-    """The synthetic real suspension's bushing laws in the parameters of the stiffness
-    identification (:mod:`elastokin.stiffness`): bushing -> {translation_scale, rotation_scale,
-    translation_cubic (1/mm^2), rotation_cubic (1/deg^2)}; ``cubic = progression^-2``.
-    Empty without ``kc_test.synthetic``. For reports only: never used in fitting."""
-    s = suspension
-    if s.kc_test is None or s.kc_test.synthetic is None:
-        return {}
-    out = {}
-    for b in s.bushings:
-        rb = s.kc_test.synthetic.bushings.get(b.name)
-        out[b.name] = {
-            "translation_scale": rb.translation_scale if rb else 1.0,
-            "rotation_scale": rb.rotation_scale if rb else 1.0,
-            "translation_cubic": rb.progression_mm ** -2 if rb and rb.progression_mm else 0.0,
-            "rotation_cubic": rb.progression_deg ** -2 if rb and rb.progression_deg else 0.0,
-        }
-    return out
-
-
 def _spec(suspension: Suspension) -> RealSuspensionSpec:
     s = suspension
     if s.kc_test is None or s.kc_test.synthetic is None:

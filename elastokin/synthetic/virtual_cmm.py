@@ -39,11 +39,11 @@ import numpy as np
 import yaml
 from scipy.spatial.transform import Rotation
 
+from elastokin.config.measurements import check_measurements, hardpoint_name
 from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile, SyntheticSpec
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 from elastokin.formats.cmm import write_points
-from elastokin.identification.geometric import _check_spec, _name
 from elastokin.physics.pose import mark_layout_warnings, pose_error_gain
 
 #: 95 % quantile of the 3-D distance of an isotropic unit Gaussian (chi, 3 dof)
@@ -191,7 +191,7 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     m = s.measurements
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: it names the files to write")
-    _check_spec(s, m, "measurements")
+    check_measurements(s, m, "measurements")
     syn = m.synthetic or SyntheticSpec()
     seed = syn.seed if seed is None else seed
     rng = np.random.default_rng(seed)
@@ -225,11 +225,11 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     for name, c in spec.connections.items():
         if isinstance(c, LinkSpec):
             for part, at in zip(c.parts, c.at):
-                x = hp[_name(at, f"connections.{name}.at", s.source)]
+                x = hp[hardpoint_name(at, f"connections.{name}.at", s.source)]
                 feature(part, at, x)
                 truth[f"{name}:{at}"] = poses.moved(part, x)
             continue
-        at = _name(c.at, f"connections.{name}.at", s.source)
+        at = hardpoint_name(c.at, f"connections.{name}.at", s.source)
         x = hp[at]
         if isinstance(c, BushingSpec):
             b = bushings[name]
@@ -251,8 +251,8 @@ def synthesize(suspension: Suspension, seed: int | None = None,
             truth[name] = np.mean([poses.moved(p, x) for p in c.parts], axis=0)
     for sname, sp in spec.springs.items():
         for part, seat in zip(sp.parts, sp.seats):
-            feature(part, _name(seat, f"springs.{sname}.seats", s.source), hp[seat])
-    wc = _name(spec.wheel.centre, "wheel.centre", s.source)
+            feature(part, hardpoint_name(seat, f"springs.{sname}.seats", s.source), hp[seat])
+    wc = hardpoint_name(spec.wheel.centre, "wheel.centre", s.source)
     feature(s.wheel.part, wc, s.wheel.centre_mm, s.wheel.spin_axis)
 
     # ---- marks, part frames, CMM frame, noise
