@@ -32,9 +32,10 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.config.loading import load_suspension
-from elastokin.mbs.model import EXUDYN_VERSION, design_state
-from elastokin.rig.load_cases import _leg
-from elastokin.studies import doe
+from elastokin.mbs.design import design_state
+from elastokin.mbs.model import EXUDYN_VERSION
+from elastokin.rig.paths import leg
+from elastokin.studies import doe, doe_runner
 from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,24 +48,26 @@ def per_minute(count: int, seconds: float) -> float:
 
 def profile(study: doe.Study, repeat: int) -> dict:
     """Median ms of each stage of one sweep, over ``repeat`` samples."""
+    from elastokin.config.variants import DesignState
     from elastokin.mbs.model import ModelOptions, SuspensionModel
-    from elastokin.rig.load_cases import characteristics
+    from elastokin.rig.characteristics import characteristics
+    from elastokin.rig.pad import run_pad
     from elastokin.synthetic.virtual_cmm import as_built
 
     s, design = doe._context(study.job)
     spec = s.rig.parallel_travel
-    z = np.r_[_leg(0.0, spec.rebound_mm, doe.APPROACH_STEP_MM),
-              _leg(spec.rebound_mm, spec.bump_mm, spec.step_mm)]
+    z = np.r_[leg(0.0, spec.rebound_mm, doe.APPROACH_STEP_MM),
+              leg(spec.rebound_mm, spec.bump_mm, spec.step_mm)]
     t = {"as_built_ms": [], "model_build_ms": [], "solve_ms": [], "characteristics_ms": []}
     for k in range(repeat):
         shifts = {n: np.asarray(v) for n, v in study.shifts(k % study.samples).items()}
         t0 = time.perf_counter()
         ab = as_built(s, shifts, design)
         t1 = time.perf_counter()
-        model = SuspensionModel(ab.suspension, ModelOptions(), bushing_preload=ab.bushing_preload,
-                                spring_force_N=ab.spring_force_N)
+        model = SuspensionModel(ab.suspension, ModelOptions(),
+                                DesignState(ab.spring_force_N, ab.bushing_preload))
         t2 = time.perf_counter()
-        states = model.run(pad_z_mm=z)
+        states = run_pad(model, pad_z_mm=z)
         t3 = time.perf_counter()
         characteristics(states, s)
         t4 = time.perf_counter()
@@ -109,11 +112,11 @@ def on_dask(study: doe.Study, workers: int, batch: int, repeat: int) -> list[flo
     items = [(k, study.shifts(k)) for k in range(study.samples)]
     rates = []
     with cluster, Client(cluster) as client:
-        doe.run_dask(client, study.job, items[:4 * workers], lambda rec: None, 1)  # warm-up
+        doe_runner.run_dask(client, study.job, items[:4 * workers], lambda rec: None, 1)  # warm-up
         for _ in range(repeat):
             done = []
             t0 = time.perf_counter()
-            doe.run_dask(client, study.job, items, done.append, batch)
+            doe_runner.run_dask(client, study.job, items, done.append, batch)
             rates.append(per_minute(study.samples, time.perf_counter() - t0))
             assert len(done) == study.samples
     return rates
@@ -132,7 +135,7 @@ def main() -> None:
     s = load_suspension(args.config)
     study = doe.make_study(s, args.sweeps, "lhs", 0, "travel", design_state(s))
     spec = s.rig.parallel_travel
-    stroke = _leg(spec.rebound_mm, spec.bump_mm, spec.step_mm).size + 1
+    stroke = leg(spec.rebound_mm, spec.bump_mm, spec.step_mm).size + 1
 
     prof = profile(study, 30)
     serial, failed = in_process(study, args.sweeps)

@@ -27,8 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.config.loading import load_suspension
-from elastokin.mbs.model import EXUDYN_VERSION, ModelOptions, build_model, design_state
-from elastokin.rig.load_cases import travel_path
+from elastokin.mbs.design import build_model, design_state
+from elastokin.mbs.model import EXUDYN_VERSION, ModelOptions
+from elastokin.rig.pad import run_pad
+from elastokin.rig.paths import travel_path
 from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,18 +54,19 @@ def main() -> None:
 
     s = load_suspension(args.config)
     design = design_state(s)
-    z, _ = travel_path(s.rig.parallel_travel)
+    tp = s.rig.parallel_travel
+    z, _ = travel_path(tp.rebound_mm, tp.bump_mm, tp.step_mm, tp.unloading)
     n = len(z)
 
     t_build, model = best_of(lambda: build_model(s, ModelOptions(), design), args.repeat)
-    t_static, _ = best_of(lambda: model.run(pad_loads=[s.up * s.design.wheel_load_N]),
+    t_static, _ = best_of(lambda: run_pad(model, pad_loads=[s.up * s.design.wheel_load_N]),
                           args.repeat)
-    t_sweep, tuned = best_of(lambda: model.run(pad_z_mm=z), args.repeat)
+    t_sweep, tuned = best_of(lambda: run_pad(model, pad_z_mm=z), args.repeat)
 
     naive_s = dataclasses.replace(s, solver=s.solver.model_copy(
         update={"modified_newton": False}))
     naive_model = build_model(naive_s, ModelOptions(user_functions="python"), design)
-    t_naive, naive = best_of(lambda: naive_model.run(pad_z_mm=z, solve_per_step=True),
+    t_naive, naive = best_of(lambda: run_pad(naive_model, pad_z_mm=z, solve_per_step=True),
                              args.repeat)
     toe = np.array([st.spin_axis for st in tuned])
     toe_naive = np.array([st.spin_axis for st in naive])

@@ -25,8 +25,9 @@ from pathlib import Path
 
 from elastokin.config.loading import load_suspension
 from elastokin.mbs.model import EXUDYN_VERSION
-from elastokin.rig.load_cases import parallel_travel, steer_amplitude_deg
-from elastokin.studies.kc_job import run_vertical_kc
+from elastokin.rig.characteristics import steer_amplitude_deg
+from elastokin.rig.load_cases import parallel_travel
+from elastokin.studies.kc_job import run_kc
 from elastokin.synthetic.real_suspension import real_suspension_model
 from elastokin.version import __version__
 
@@ -44,7 +45,7 @@ def main() -> int:
 
     t0 = time.perf_counter()
     s = load_suspension(CONFIG)
-    run = run_vertical_kc(s)
+    run = run_kc(s)
     amplitudes = {label: run.models[label].summary()["steer_amplitude_deg"]
                   for label in ("test", "initial", "identified")}
     real = parallel_travel(real_suspension_model(s), "test")

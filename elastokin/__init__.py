@@ -1,10 +1,80 @@
 """elastokin: suspension elastokinematics and geometric identification on Exudyn.
 
-Units at every interface: mm, N, N*mm, deg (see README, "Units and frames").
+Units at every interface: mm, N, N*mm, deg; the config frame (README "Sign conventions").
+
+The public Python API (the CLI is a thin layer over it)::
+
+    import elastokin as ek
+
+    s = ek.load_suspension("configs/pseudo_mcpherson.yaml")      # validated, resolved
+    run = ek.run_kc(s)                                            # the whole K&C job
+    ek.write_kc_results(run, Path("results/mine"))                # kc.csv, summary.json, ...
+
+    model = ek.build_model(ek.kinematic(s))                       # one model variant
+    sweeps = ek.run_load_cases(model, "kinematic")                # every load case of the rig
+    ident = ek.identify_geometry(s)                               # the paper's method
+
+Names are imported on first use, so ``import elastokin`` stays light (no Exudyn, no
+matplotlib until a model is built or a chart drawn).
 """
 
 from __future__ import annotations
 
+from importlib import import_module
+
 from elastokin.version import __version__
 
-__all__ = ["__version__"]
+#: public name -> module that defines it
+_API = {
+    # config: load and vary suspensions
+    "load_suspension": "elastokin.config.loading",
+    "load_suspension_with_rig": "elastokin.config.loading",
+    "load_rig": "elastokin.config.loading",
+    "suspension_from_dict": "elastokin.config.loading",
+    "Suspension": "elastokin.config.suspension",
+    "ModelVariant": "elastokin.config.variants",
+    "DesignState": "elastokin.config.variants",
+    "kinematic": "elastokin.config.variants",
+    "with_bushing_laws": "elastokin.config.variants",
+    # models
+    "build_model": "elastokin.mbs.design",
+    "design_state": "elastokin.mbs.design",
+    "ModelOptions": "elastokin.mbs.model",
+    # the rig
+    "run_load_cases": "elastokin.rig.load_cases",
+    "run_drive": "elastokin.rig.load_cases",
+    "drives": "elastokin.rig.load_cases",
+    "parallel_travel": "elastokin.rig.load_cases",
+    "static_equilibrium": "elastokin.rig.load_cases",
+    "compliance_matrix": "elastokin.rig.load_cases",
+    "run_pad": "elastokin.rig.pad",
+    "summary_figures": "elastokin.rig.characteristics",
+    "Sweep": "elastokin.rig.sweeps",
+    "CHANNELS": "elastokin.rig.channels",
+    # identification and studies
+    "identify_geometry": "elastokin.studies.identification",
+    "identify_stiffness": "elastokin.identification.stiffness",
+    "run_kc": "elastokin.studies.kc_job",
+    "run_kc_from_identification": "elastokin.studies.kc_job",
+    "run_kc_from_variants": "elastokin.studies.kc_job",
+    "KCRun": "elastokin.studies.kc_job",
+    "read_test_sweeps": "elastokin.formats.kc_test_sweeps",
+    # results
+    "write_kc_results": "elastokin.report.files",
+    "read_results": "elastokin.report.files",
+}
+
+__all__ = ["__version__", *_API]
+
+
+def __getattr__(name: str):
+    if name in _API:
+        value = getattr(import_module(_API[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'elastokin' has no attribute '{name}'")
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+

@@ -21,7 +21,7 @@ def case():
 
 @pytest.fixture(scope="session")
 def case_design(case):
-    from elastokin.mbs.model import design_state
+    from elastokin.mbs.design import design_state
 
     return design_state(case)
 

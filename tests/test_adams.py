@@ -1,6 +1,7 @@
-"""ADAMS/Car interoperability (elastokin.adams, docs/adams.md): the TeimOrbit reader and its unit
-conversion, bushing property files, hardpoint tables and frames, the export, the round trip
-through ADAMS files, and the import-adams / export-adams commands.
+"""ADAMS/Car interoperability (elastokin.formats.teimorbit, adams_car, adams_export, adams_kc;
+docs/adams.md): the TeimOrbit reader and its unit conversion, bushing property files, hardpoint
+tables and frames, the export, the round trip through ADAMS files, and the import-adams /
+export-adams commands.
 
 Test data in tests/data/adams/: one nonlinear bushing law written in three unit systems, five
 malformed variants (the faulty line carries a ``$ error`` comment), and a subsystem file and a
@@ -18,7 +19,7 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
-from elastokin.formats import adams
+from elastokin.formats import adams_car, adams_export, adams_kc, teimorbit
 
 DATA = Path(__file__).parent / "data"
 ADAMS = DATA / "adams"
@@ -76,7 +77,7 @@ def test_reader_structure_and_line_numbers():
         " 'lca_front   '  'left/right'  -200.0  -350  150",                            # 16
         " rack_centre  single  0 0 200",                                               # 17
     ])
-    f = adams.parse_teimorbit(text, "t.bus")
+    f = teimorbit.parse_teimorbit(text, "t.bus")
     assert [(b.name, b.line) for b in f.blocks] == [("MDI_HEADER", 2), ("FX_CURVE", 9),
                                                      ("HARDPOINT", 14)]
     head = f.block("MDI_HEADER")
@@ -104,7 +105,7 @@ def test_reader_structure_and_line_numbers():
 ])
 def test_reader_errors_name_file_line_block(text, line, words):
     with pytest.raises(ConfigError) as exc:
-        adams.parse_teimorbit(text, "bad.sub")
+        teimorbit.parse_teimorbit(text, "bad.sub")
     msg = str(exc.value)
     assert msg.startswith(f"bad.sub, line {line}") and words in msg
 
@@ -118,7 +119,7 @@ def test_units_block_converts_known_columns_and_keys(tmp_path):
                  "[BUSHING_ASSEMBLY]\n USAGE = 'b'\n T_PRELOAD_Z = 0.5\n R_PRELOAD_X = 0.002\n"
                  " R_OFFSET_Z = 0.1\n INACTIVE_BEHAVIOR = 'normal'\n"
                  "[OTHER]\n{speed  force}\n 3 0.25\n")
-    f = adams.read_teimorbit(p)
+    f = teimorbit.read_teimorbit(p)
     assert f.units_declared and f.units.length == "meter"
     hp = f.block("HARDPOINT").tables[0]
     assert hp.rows[0][2:] == pytest.approx((100.0, -200.0, 300.0), rel=1e-12)
@@ -130,7 +131,7 @@ def test_units_block_converts_known_columns_and_keys(tmp_path):
     assert ba.entries["R_PRELOAD_X"].unit == "N*mm" and ba.entries["USAGE"].unit is None
     other = f.block("OTHER").tables[0]  # unknown column kept as read, known one converted
     assert other.rows == [(3.0, 250.0)] and other.units == (None, "N")
-    assert adams.Units("inch", "pound_force", "radians", "slug", "minute").factor(
+    assert teimorbit.Units("inch", "pound_force", "radians", "slug", "minute").factor(
         "rotational_damping") == pytest.approx(25.4 * 4.4482216152605 * 60 / math.degrees(1))
 
 
@@ -138,8 +139,8 @@ def test_missing_units_block_means_adams_car_defaults(tmp_path):
     p = tmp_path / "x.sub"
     p.write_text("[HARDPOINT]\n{hardpoint_name symmetry x_value y_value z_value}\n"
                  " 'p' 'single' 1 2 3\n")
-    f = adams.read_teimorbit(p)
-    assert not f.units_declared and f.units == adams.Units()
+    f = teimorbit.read_teimorbit(p)
+    assert not f.units_declared and f.units == teimorbit.Units()
     assert f.block("HARDPOINT").tables[0].rows[0][2:] == (1.0, 2.0, 3.0)
 
 
@@ -149,8 +150,8 @@ def test_missing_units_block_means_adams_car_defaults(tmp_path):
 
 @pytest.mark.parametrize("other", ["meter_kilonewton_rad", "inch_poundforce_deg_ms"])
 def test_bus_in_other_units_gives_the_same_bushing(other):
-    ref = adams.read_bushing(ADAMS / "bushing_mm_newton_deg.bus")
-    alt = adams.read_bushing(ADAMS / f"bushing_{other}.bus")
+    ref = adams_car.read_bushing(ADAMS / "bushing_mm_newton_deg.bus")
+    alt = adams_car.read_bushing(ADAMS / f"bushing_{other}.bus")
     assert alt.units != ref.units
     probe = np.linspace(-45.0, 45.0, 181)  # inside and beyond every table (extrapolation)
     for law_ref, law_alt, d in zip(ref.laws(), alt.laws(), ("x", "y", "z", "rx", "ry", "rz")):
@@ -168,7 +169,7 @@ def test_bus_in_other_units_gives_the_same_bushing(other):
 def test_bus_is_a_config_stiffness_entry():
     """The stiffness dict goes straight into a config; the law it builds is the file's, and it
     is extrapolated with the end slopes beyond the table."""
-    props = adams.read_bushing(ADAMS / "bushing_mm_newton_deg.bus")
+    props = adams_car.read_bushing(ADAMS / "bushing_mm_newton_deg.bus")
     data = read_yaml(WISHBONE)[0]
     data["connections"]["lca_bushing"]["stiffness"] = props.stiffness
     b = next(b for b in suspension_from_dict(data).bushings if b.name == "lca_bushing")
@@ -189,7 +190,7 @@ def test_bus_is_a_config_stiffness_entry():
 def test_malformed_bus_names_file_block_and_line(name, block):
     path = ADAMS / f"malformed_{name}.bus"
     with pytest.raises(ConfigError) as exc:
-        adams.read_bushing(path)
+        adams_car.read_bushing(path)
     msg = str(exc.value)
     assert msg.startswith(f"{path}, line {marked_line(path)}, block [{block}]: "), msg
     assert "\n" not in msg
@@ -200,7 +201,7 @@ def test_missing_curve_block(tmp_path):
     p = tmp_path / "no_ty.bus"
     p.write_text(text.replace("[TY_CURVE]", "[TY_CURVE_OLD]"))
     with pytest.raises(ConfigError, match=r"no_ty.bus: block \[TY_CURVE\] is missing"):
-        adams.read_bushing(p)
+        adams_car.read_bushing(p)
 
 
 def test_load_must_increase(tmp_path):
@@ -208,7 +209,7 @@ def test_load_must_increase(tmp_path):
     p = tmp_path / "soft.bus"
     p.write_text(text.replace("  10                 12000", "  10                  3000"))
     with pytest.raises(ConfigError, match=r"block \[FX_CURVE\]: force 3000 N does not increase"):
-        adams.read_bushing(p)
+        adams_car.read_bushing(p)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -216,7 +217,7 @@ def test_load_must_increase(tmp_path):
 
 
 def test_hardpoint_table_left_right_single():
-    points = adams.read_hardpoints(SUB)
+    points = adams_car.read_hardpoints(SUB)
     lca = points["lca_front"]  # the quoted, padded name is stripped
     assert (lca.symmetry, lca.position_mm, lca.line) == ("left/right", (-202.0, -351.0, 151.0),
                                                          27)
@@ -229,13 +230,13 @@ def test_hardpoint_table_left_right_single():
 
 def test_frame_conversion_both_frames():
     p = np.array([-202.0, -351.0, 151.0])  # ADAMS: rearward, right, up
-    np.testing.assert_array_equal(adams.adams_to_config(p, ADAMS_FRAME), p)
-    np.testing.assert_array_equal(adams.adams_to_config(p, ISO), [202.0, 351.0, 151.0])
+    np.testing.assert_array_equal(adams_car.adams_to_config(p, ADAMS_FRAME), p)
+    np.testing.assert_array_equal(adams_car.adams_to_config(p, ISO), [202.0, 351.0, 151.0])
     for frame in (ISO, ADAMS_FRAME):
         np.testing.assert_array_equal(
-            adams.config_to_adams(adams.adams_to_config(p, frame), frame), p)
+            adams_car.config_to_adams(adams_car.adams_to_config(p, frame), frame), p)
     with pytest.raises(ConfigError, match="expected x rearward, y right"):
-        adams.adams_to_config(p, {"x": "forward", "y": "right"})
+        adams_car.adams_to_config(p, {"x": "forward", "y": "right"})
 
 
 @pytest.mark.parametrize("frame", ["iso", "adams"])
@@ -244,7 +245,7 @@ def test_apply_hardpoints_converts_to_the_template_frame(frame):
     if frame == "adams":  # the same suspension described in the ADAMS/Car frame
         data["frame"] = ADAMS_FRAME
         data["hardpoints"] = {k: [-v[0], -v[1], v[2]] for k, v in data["hardpoints"].items()}
-    cfg, warnings = adams.import_adams(data, SUB, MAPPING)
+    cfg, warnings = adams_car.import_adams(data, SUB, MAPPING)
     assert warnings == []
     lca_outer = cfg["hardpoints"]["lca_outer"]  # ADAMS (-1, -721, 131), left point (hpl_)
     assert lca_outer == ([1.0, 721.0, 131.0] if frame == "iso" else [-1.0, -721.0, 131.0])
@@ -265,7 +266,7 @@ def test_right_side_and_single_points(tmp_path):
         "hardpoints": {"lca_front": "hpr_lca_front", "lca_rear": {"adams": "lca_rear",
                                                                    "side": "right"},
                        "spring_upper": "path_error_reference"}}))
-    cfg, warnings = adams.import_adams(data, SUB, mapping)
+    cfg, warnings = adams_car.import_adams(data, SUB, mapping)
     assert cfg["hardpoints"]["lca_front"] == [202.0, -351.0, 151.0]   # ISO: right is y < 0
     assert cfg["hardpoints"]["lca_rear"] == [-198.0, -351.0, 151.0]
     assert cfg["hardpoints"]["spring_upper"] == [0.0, 0.0, 0.0]        # single: as stored
@@ -299,7 +300,7 @@ def test_mapping_errors_name_file_and_key(tmp_path, content, words):
         (tmp_path / "bushing_mm_newton_deg.bus").write_text(
             (ADAMS / "bushing_mm_newton_deg.bus").read_text())
     with pytest.raises(ConfigError) as exc:
-        adams.import_adams(read_yaml(WISHBONE)[0], SUB, mapping)
+        adams_car.import_adams(read_yaml(WISHBONE)[0], SUB, mapping)
     assert words in str(exc.value) and str(tmp_path) in str(exc.value)
 
 
@@ -311,7 +312,7 @@ def test_mapping_errors_name_file_and_key(tmp_path, content, words):
 def mcpherson():
     """The shipped pseudo-McPherson without its CMM measurements (its own Table 2 geometry),
     resolved, with its balanced design preloads."""
-    from elastokin.mbs.model import design_state
+    from elastokin.mbs.design import design_state
 
     data = read_yaml(Path(__file__).parents[1] / "configs" / "pseudo_mcpherson.yaml")[0]
     del data["measurements"]
@@ -322,36 +323,36 @@ def mcpherson():
 
 def test_export_is_deterministic_and_reads_back(tmp_path, mcpherson):
     data, s, preload = mcpherson
-    a = adams.export_adams(s, tmp_path / "a", preload)
-    b = adams.export_adams(s, tmp_path / "b", preload)
+    a = adams_export.export_adams(s, tmp_path / "a", preload)
+    b = adams_export.export_adams(s, tmp_path / "b", preload)
     assert [p.name for p in a] == ["hardpoints.tbl", "J1.bus", "J2.bus", "J4.bus",
                                    "bushing_assembly.txt", "mapping.yaml"]
     for pa, pb in zip(a, b):
         assert pa.read_bytes() == pb.read_bytes(), pa.name
-    points = adams.read_hardpoints(tmp_path / "a" / "hardpoints.tbl")
+    points = adams_car.read_hardpoints(tmp_path / "a" / "hardpoints.tbl")
     assert set(points) == set(s.hardpoints)
     for name, p in s.hardpoints.items():  # this config is in the ADAMS frame, left side
         assert points[name].symmetry == "left/right"
         assert points[name].position_mm == tuple(p)
-    j1 = adams.read_bushing(tmp_path / "a" / "J1.bus")
+    j1 = adams_car.read_bushing(tmp_path / "a" / "J1.bus")
     assert j1.stiffness["x"] == {"deflection": [-10.0, -5.0, 0.0, 5.0, 10.0],
                                  "load": [-3000.0, -1500.0, 0.0, 1500.0, 3000.0]}
     assert j1.stiffness["rz"]["load"][-1] == 16000.0  # 1600 N*mm/deg over +-10 deg
-    back = adams.read_bushing_assemblies(tmp_path / "a" / "bushing_assembly.txt")
+    back = adams_car.read_bushing_assemblies(tmp_path / "a" / "bushing_assembly.txt")
     for name, p in preload.items():
         np.testing.assert_allclose(back[name], p, atol=1e-6)
     assert back["J4"][2] == pytest.approx(4824.36, abs=0.01)  # the strut load on the top mount
 
 
 def test_export_iso_frame_and_nonlinear_curve(tmp_path):
-    from elastokin.mbs.model import design_state
+    from elastokin.mbs.design import design_state
 
     s = suspension_from_dict(read_yaml(WISHBONE)[0], "double_wishbone.yaml")
-    adams.export_adams(s, tmp_path, design_state(s).bushing_preload, range_mm=5.0,
-                       range_deg=40.0)
-    points = adams.read_hardpoints(tmp_path / "hardpoints.tbl")
+    adams_export.export_adams(s, tmp_path, design_state(s).bushing_preload, range_mm=5.0,
+                              range_deg=40.0)
+    points = adams_car.read_hardpoints(tmp_path / "hardpoints.tbl")
     assert points["lca_front"].position_mm == (-200.0, -350.0, 150.0)  # ISO -> ADAMS, Y < 0
-    bus = adams.read_bushing(tmp_path / "lca_bushing.bus")
+    bus = adams_car.read_bushing(tmp_path / "lca_bushing.bus")
     # the curve as given (+-30 deg), extended with its end slopes to the asked +-40 deg
     assert bus.stiffness["rz"] == {"deflection": [-40.0, -30.0, -10.0, 0.0, 10.0, 30.0, 40.0],
                                    "load": [-42500.0, -30000.0, -5000.0, 0.0, 5000.0, 30000.0,
@@ -364,7 +365,7 @@ def test_export_iso_frame_and_nonlinear_curve(tmp_path):
 def test_export_needs_balanced_preloads(mcpherson):
     _, s, _ = mcpherson
     with pytest.raises(ConfigError, match="preloads must be solved first"):
-        adams.export_adams(s, "/nonexistent")
+        adams_export.export_adams(s, "/nonexistent")
 
 
 def test_kc_channels(tmp_path):
@@ -376,7 +377,7 @@ def test_kc_channels(tmp_path):
                   "initial,parallel_travel,1,stroke,-1.0,-0.9,0.01,-0.02,0.5,780.0,-12.5,"
                   "4800.0,0.1,7\n")
     out = tmp_path / "kc_adams.csv"
-    adams.write_adams_kc_csv(kc, out, ISO)
+    adams_kc.write_adams_kc_csv(kc, out, ISO)
     lines = out.read_text().splitlines()
     assert "# elastokin_version: 0.1.0" in lines
     assert any(ln.startswith("# channel units: pad_vertical_displacement mm, wheel_travel mm, "
@@ -389,7 +390,7 @@ def test_kc_channels(tmp_path):
     # ISO config frame -> ADAMS frame: x and y change sign; everything else unchanged
     assert row == ["initial", "parallel_travel", "1", "stroke", "-1.0", "-0.9", "0.01",
                    "-0.02", "-0.5", "-780.0", "12.5", "4800.0", "0.1", "7"]
-    adams.write_adams_kc_csv(kc, out, ADAMS_FRAME)
+    adams_kc.write_adams_kc_csv(kc, out, ADAMS_FRAME)
     assert out.read_text().splitlines()[-1].split(",")[8:11] == ["0.5", "780.0", "-12.5"]
 
 
@@ -412,10 +413,10 @@ def _scrambled(data: dict) -> dict:
 
 def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
     data, s, preload = mcpherson
-    adams.export_adams(s, tmp_path, preload)
+    adams_export.export_adams(s, tmp_path, preload)
     template = _scrambled(data)
-    cfg, warnings = adams.import_adams(template, tmp_path / "hardpoints.tbl",
-                                       tmp_path / "mapping.yaml")
+    cfg, warnings = adams_car.import_adams(template, tmp_path / "hardpoints.tbl",
+                                           tmp_path / "mapping.yaml")
     assert warnings == []
     back = suspension_from_dict(cfg, "imported.yaml")
     for name, p in s.hardpoints.items():
@@ -431,13 +432,13 @@ def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
 
 
 def test_round_trip_iso_frame_double_wishbone(tmp_path):
-    from elastokin.mbs.model import design_state
+    from elastokin.mbs.design import design_state
 
     data = read_yaml(WISHBONE)[0]
     s = suspension_from_dict(data, "double_wishbone.yaml")
-    adams.export_adams(s, tmp_path, design_state(s).bushing_preload)
-    cfg, _ = adams.import_adams(_scrambled(data), tmp_path / "hardpoints.tbl",
-                                tmp_path / "mapping.yaml")
+    adams_export.export_adams(s, tmp_path, design_state(s).bushing_preload)
+    cfg, _ = adams_car.import_adams(_scrambled(data), tmp_path / "hardpoints.tbl",
+                                    tmp_path / "mapping.yaml")
     assert cfg["hardpoints"] == data["hardpoints"]  # ISO -> ADAMS -> ISO, exactly
     assert steer_amplitude(cfg, "imported.yaml") == pytest.approx(
         steer_amplitude(data, "original.yaml"), abs=1e-6)
@@ -490,7 +491,7 @@ def test_cli_export_identified_with_kc(tmp_path, case_path):
                                   str(out), "--identified", "--kc", str(kc)])
     assert r.exit_code == 0, r.output
     ident = identify(load_suspension(case_path)).identified_config
-    points = adams.read_hardpoints(out / "hardpoints.tbl")
+    points = adams_car.read_hardpoints(out / "hardpoints.tbl")
     for name, p in ident["hardpoints"].items():
         assert points[name].position_mm == pytest.approx(p, abs=1e-9)
     assert "(identified)" in (out / "J1.bus").read_text().splitlines()[0]

@@ -15,8 +15,9 @@ from hypothesis.extra.numpy import arrays
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError, ElastokinError
-from elastokin.rig.load_cases import parallel_travel, steer_amplitude_deg
-from elastokin.studies import doe
+from elastokin.rig.characteristics import steer_amplitude_deg
+from elastokin.rig.load_cases import parallel_travel
+from elastokin.studies import doe, doe_runner, doe_sampling, doe_statistics
 
 
 def run_doe(config, out, *args):
@@ -39,7 +40,7 @@ def write_config(tmp_path, case_path, name="case.yaml", edit=None):
 
 @pytest.fixture(scope="module")
 def joints(case):
-    return doe.clearance_joints(case)
+    return doe_sampling.clearance_joints(case)
 
 
 # ---------------------------------------------------------------------------- sampling
@@ -54,9 +55,9 @@ def test_clearance_joints_of_the_case(case, joints):
 @given(u=arrays(np.float64, (5, 12), elements=st.floats(0.0, 1.0, exclude_max=True)))
 def test_sampled_shifts_stay_in_the_clearance(case, joints, u):
     bushings = {b.name: b for b in case.bushings}
-    comps = doe.shift_components(joints, u)
+    comps = doe_sampling.shift_components(joints, u)
     for row in comps:
-        shifts = doe.shifts_mm(joints, row)
+        shifts = doe_sampling.shifts_mm(joints, row)
         for j in joints:
             v = shifts[j.name]
             assert np.linalg.norm(v) <= j.max_shift_mm * (1 + 1e-12)
@@ -66,28 +67,28 @@ def test_sampled_shifts_stay_in_the_clearance(case, joints, u):
 
 def test_disc_and_ball_maps_are_uniform():
     # hand-checkable points: r = R sqrt(u1) and r = R u1^(1/3)
-    assert doe.disc_components([0.25, 0.0], 2.0) == pytest.approx([1.0, 0.0])
-    assert doe.disc_components([1.0, 0.25], 2.0) == pytest.approx([0.0, 2.0], abs=1e-12)
-    assert doe.ball_components([0.125, 0.5, 0.0], 2.0) == pytest.approx([1.0, 0.0, 0.0],
+    assert doe_sampling.disc_components([0.25, 0.0], 2.0) == pytest.approx([1.0, 0.0])
+    assert doe_sampling.disc_components([1.0, 0.25], 2.0) == pytest.approx([0.0, 2.0], abs=1e-12)
+    assert doe_sampling.ball_components([0.125, 0.5, 0.0], 2.0) == pytest.approx([1.0, 0.0, 0.0],
                                                                         abs=1e-12)
-    assert doe.ball_components([1.0, 0.0, 0.3], 2.0) == pytest.approx([0.0, 0.0, 2.0],
+    assert doe_sampling.ball_components([1.0, 0.0, 0.3], 2.0) == pytest.approx([0.0, 0.0, 2.0],
                                                                       abs=1e-12)
     # uniform in area / volume: a quarter of the disc's points, an eighth of the ball's,
     # within half the radius (binomial sd < 0.004 for 20000 points)
     u = np.random.default_rng(1).random((20000, 3))
-    assert np.mean(np.linalg.norm(doe.disc_components(u[:, :2], 1.0), axis=1) < 0.5) == \
+    assert np.mean(np.linalg.norm(doe_sampling.disc_components(u[:, :2], 1.0), axis=1) < 0.5) == \
         pytest.approx(0.25, abs=0.015)
-    b = doe.ball_components(u, 1.0)
+    b = doe_sampling.ball_components(u, 1.0)
     assert np.mean(np.linalg.norm(b, axis=1) < 0.5) == pytest.approx(0.125, abs=0.012)
     assert np.abs(b.mean(axis=0)).max() < 0.02  # no preferred direction
 
 
-@pytest.mark.parametrize("method", doe.METHODS)
+@pytest.mark.parametrize("method", doe_sampling.METHODS)
 def test_unit_samples_depend_on_seed_only(method):
-    a = doe.unit_samples(method, 16, 12, seed=7)
+    a = doe_sampling.unit_samples(method, 16, 12, seed=7)
     assert a.shape == (16, 12) and np.all((a >= 0) & (a < 1))
-    assert np.array_equal(a, doe.unit_samples(method, 16, 12, seed=7))
-    assert not np.array_equal(a, doe.unit_samples(method, 16, 12, seed=8))
+    assert np.array_equal(a, doe_sampling.unit_samples(method, 16, 12, seed=7))
+    assert not np.array_equal(a, doe_sampling.unit_samples(method, 16, 12, seed=8))
     if method == "lhs":  # one point in each of the 16 strata of every coordinate
         assert all(sorted(np.floor(a[:, i] * 16).astype(int)) == list(range(16))
                    for i in range(12))
@@ -95,11 +96,11 @@ def test_unit_samples_depend_on_seed_only(method):
 
 # ---------------------------------------------------------------------------- sensitivity
 def test_statistics_hand_checked():
-    s = doe.statistics([1.0, 2.0, 3.0, 4.0, None, float("nan")])
+    s = doe_statistics.statistics([1.0, 2.0, 3.0, 4.0, None, float("nan")])
     assert s == {"mean": 2.5, "std": pytest.approx(np.sqrt(5 / 3)), "p05": pytest.approx(1.15),
                  "p95": pytest.approx(3.85), "min": 1.0, "max": 4.0, "n": 4}
-    assert doe.statistics([2.0])["std"] is None
-    assert doe.statistics([])["mean"] is None
+    assert doe_statistics.statistics([2.0])["std"] is None
+    assert doe_statistics.statistics([])["mean"] is None
 
 
 def test_sensitivity_recovers_a_known_linear_ranking():
@@ -109,20 +110,20 @@ def test_sensitivity_recovers_a_known_linear_ranking():
     X = rng.uniform(-1, 1, size=(4000, 5))  # a1 a2 b1 b2 c1
     groups = ["A", "A", "B", "B", "C"]
     y = 3 * X[:, 0] + X[:, 2] + 0.5 * X[:, 3]
-    res = doe.joint_sensitivity(X, y, groups)
+    res = doe_statistics.joint_sensitivity(X, y, groups)
     assert res["method"] == "src" and res["r2"] == pytest.approx(1.0)
     assert res["joints"]["A"] == pytest.approx(9 / 10.25, abs=0.02)
     assert res["joints"]["B"] == pytest.approx(1.25 / 10.25, abs=0.02)
     assert res["joints"]["C"] == pytest.approx(0.0, abs=1e-12)
     # SRC of a noiseless linear function: b_i std(x_i) / std(y), exactly
-    src, _ = doe.standardised_regression(X, y)
+    src, _ = doe_statistics.standardised_regression(X, y)
     expected = np.array([3, 0, 1, 0.5, 0]) * X.std(axis=0, ddof=1) / y.std(ddof=1)
     assert src == pytest.approx(expected, abs=1e-12)
     # too few samples for one regression on all 5 inputs: one regression per joint
-    few = doe.joint_sensitivity(X[:6], y[:6], groups)
+    few = doe_statistics.joint_sensitivity(X[:6], y[:6], groups)
     assert few["method"] == "src_per_joint"
     assert max(few["joints"], key=few["joints"].get) == "A"
-    assert doe.joint_sensitivity(X[:3], y[:3], groups)["joints"]["A"] is None
+    assert doe_statistics.joint_sensitivity(X[:3], y[:3], groups)["joints"]["A"] is None
 
 
 # ---------------------------------------------------------------------------- evaluation
@@ -189,8 +190,8 @@ def test_resume_gives_the_fresh_result(case, case_path, tmp_path):
     assert fresh.exit_code == 0, fresh.output
     # an interrupted study: 4 of 8 samples saved, the 5th torn mid-write
     study = doe.make_study(case, 8, "lhs", 0, "travel")
-    store = doe.SampleStore(tmp_path / "resumed" / doe.STORE, study.header())
-    assert doe.run_study(study, store, limit=4) == 4
+    store = doe_runner.SampleStore(tmp_path / "resumed" / doe_runner.STORE, study.header())
+    assert doe_runner.run_study(study, store, limit=4) == 4
     with open(store.path, "a") as fh:
         fh.write('{"sample": 4, "shifts_mm": {"J1": [0.1')
     resumed = CliRunner().invoke(main, ["doe", "--config", str(case_path), "--out",
@@ -234,7 +235,7 @@ def test_bad_input_is_one_line(case_path, tmp_path):
     r = run_doe(case_path, tmp_path / "e", "--samples", "2")
     assert r.exit_code == 1 and "holds no elastokin DOE study" in r.output
     with pytest.raises(ConfigError, match="--method"):
-        doe.unit_samples("grid", 4, 2, 0)
+        doe_sampling.unit_samples("grid", 4, 2, 0)
     with pytest.raises(ElastokinError, match="--load-cases"):
         doe.make_study(doe.suspension_from_dict(read_yaml(case_path)[0], str(case_path)), 2,
                        load_cases="everything")

@@ -10,7 +10,8 @@ from click.testing import CliRunner
 
 from elastokin.cli.main import main
 from elastokin.config.loading import load_suspension
-from elastokin.mbs.model import ModelOptions, build_model, design_state
+from elastokin.mbs.design import build_model, design_state
+from elastokin.mbs.model import ModelOptions
 from elastokin.physics.wheel import slope
 from elastokin.rig.load_cases import parallel_travel, static_equilibrium
 

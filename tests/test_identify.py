@@ -15,8 +15,8 @@ from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.config.schema import ClearanceSpec
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm import read_points, write_points
-from elastokin.identification.geometric import identify
 from elastokin.physics.pose import clearance_bound_mm, pose_error_gain
+from elastokin.studies.identification import identify_geometry as identify
 from elastokin.synthetic.virtual_cmm import synthesize
 
 from .conftest import CASE

@@ -15,20 +15,18 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import load_rig, load_suspension, read_yaml, suspension_from_dict
 from elastokin.config.schema import ForceSweepSpec, RigSpec, TorqueSweepSpec
+from elastokin.config.variants import DesignState
 from elastokin.errors import MeasurementError
 from elastokin.formats.kc_test import read_kc_test, write_kc_test
+from elastokin.formats.kc_test_sweeps import read_test_sweeps, to_sweep
+from elastokin.formats.kc_test_sweeps import sweep_to_test_channels as kc_test_channels
 from elastokin.mbs.model import ModelOptions, SuspensionModel
-from elastokin.rig.load_cases import Sweep, parallel_travel, static_equilibrium, steer_amplitude_deg
-from elastokin.studies.comparison import (
-    ERRORS,
-    curve_error_rms,
-    read_test_sweeps,
-    rig_for_test,
-    to_sweep,
-    travel_stroke_note,
-)
+from elastokin.rig.channels import ERRORS
+from elastokin.rig.characteristics import steer_amplitude_deg
+from elastokin.rig.comparison import curve_error_rms, rig_for_test, travel_stroke_note
+from elastokin.rig.load_cases import parallel_travel, static_equilibrium
+from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.real_suspension import (
-    kc_test_channels,
     progressive_law,
     real_suspension_model,
     write_kc_test_files,
@@ -77,8 +75,7 @@ def test_real_suspension_keeps_the_as_built_static_equilibrium():
     built = as_built(s, clearance_shifts(s, np.random.default_rng(
         s.measurements.synthetic.seed)))
     reference = SuspensionModel(built.suspension, ModelOptions(),
-                                bushing_preload=built.bushing_preload,
-                                spring_force_N=built.spring_force_N)
+                                DesignState(built.spring_force_N, built.bushing_preload))
     real = real_suspension_model(s)
     a = static_equilibrium(reference).state
     b = static_equilibrium(real).state
@@ -98,8 +95,7 @@ def test_loading_and_unloading_differ_for_the_real_suspension_only():
     assert abs(hysteresis) > 2e-4  # deg: ball-joint friction (measured ~1e-3 on the full stroke)
     built = as_built(s, clearance_shifts(s, np.random.default_rng(2006)))
     model = SuspensionModel(built.suspension, ModelOptions(),
-                            bushing_preload=built.bushing_preload,
-                            spring_force_N=built.spring_force_N)
+                            DesignState(built.spring_force_N, built.bushing_preload))
     frictionless = parallel_travel(model, "as-built")
     assert abs(toe_at_zero(frictionless, "stroke")
                - toe_at_zero(frictionless, "return")) < 1e-7

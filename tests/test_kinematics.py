@@ -8,7 +8,9 @@ import pytest
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
-from elastokin.mbs.model import ModelOptions, build_model
+from elastokin.config.variants import kinematic
+from elastokin.mbs.design import build_model
+from elastokin.mbs.model import ModelOptions
 from elastokin.physics.wheel import camber_deg, toe_deg
 from elastokin.rig.load_cases import parallel_travel, travel_path
 
@@ -55,12 +57,13 @@ def loop_closure_curves(s, pad_z):
 
 @pytest.fixture(scope="module")
 def kinematic_sweep(case, case_design):
-    return parallel_travel(build_model(case, ModelOptions(kinematic=True), case_design),
+    return parallel_travel(build_model(kinematic(case), ModelOptions(), case_design),
                            "initial_kinematic")
 
 
 def test_kinematic_model_matches_loop_closure(case, kinematic_sweep):
-    z, _ = travel_path(case.rig.parallel_travel)
+    tp = case.rig.parallel_travel
+    z, _ = travel_path(tp.rebound_mm, tp.bump_mm, tp.step_mm, tp.unloading)
     toe, camber = loop_closure_curves(case, z)
     np.testing.assert_allclose(kinematic_sweep.columns["toe_deg"], toe, atol=1e-4, rtol=0)
     np.testing.assert_allclose(kinematic_sweep.columns["camber_deg"], camber, atol=1e-4,

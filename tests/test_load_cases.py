@@ -3,16 +3,17 @@
 import numpy as np
 import pytest
 
-from elastokin.mbs.model import ModelOptions, build_model
+from elastokin.mbs.design import build_model
+from elastokin.mbs.model import ModelOptions
+from elastokin.rig.channels import GRADIENTS
 from elastokin.rig.load_cases import (
-    GRADIENTS,
-    ModelResult,
     compliance_matrix,
     force_sweep,
     run_load_cases,
     static_equilibrium,
-    sweep_path,
 )
+from elastokin.rig.paths import sweep_path
+from elastokin.studies.kc_job import ModelResult
 
 
 @pytest.fixture(scope="module")

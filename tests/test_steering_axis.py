@@ -14,21 +14,21 @@ from click.testing import CliRunner
 
 from elastokin.cli.main import main
 from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
-from elastokin.mbs.model import ModelOptions, PartPoses, StepState, build_model, design_state
+from elastokin.config.variants import kinematic as kinematic_variant
+from elastokin.mbs.design import build_model, design_state
+from elastokin.mbs.model import ModelOptions
 from elastokin.physics import steering_geometry as ch
+from elastokin.physics.states import PartPoses, StepState
 from elastokin.physics.steering_axis import (
     _null_spaces,
     steering_axes_from_poses,
     steering_skeleton,
 )
-from elastokin.rig.load_cases import (
-    STEERING_AXIS_COLUMNS,
-    ModelResult,
-    SteeringAxisWarning,
-    parallel_travel,
-    static_equilibrium,
-    steering_axis_columns,
-)
+from elastokin.rig.channels import STEERING_AXIS_COLUMNS
+from elastokin.rig.load_cases import parallel_travel, static_equilibrium
+from elastokin.rig.pad import run_pad
+from elastokin.rig.steering import SteeringAxisWarning, steering_axis_columns
+from elastokin.studies.kc_job import ModelResult
 
 ROOT = Path(__file__).parent.parent
 DW = Path(__file__).parent / "data" / "double_wishbone.yaml"
@@ -103,9 +103,9 @@ def test_double_wishbone_axis_through_ball_joints_at_every_step(kinematic):
     travel sweep, compliant (bushings deflected) or kinematic. Both sides use the same solved
     poses, so the agreement is to rounding."""
     s = load_suspension(DW)
-    model = build_model(s, ModelOptions(kinematic=kinematic), design_state(s))
+    model = build_model(kinematic_variant(s) if kinematic else s, ModelOptions(), design_state(s))
     z = np.linspace(-60.0, 60.0, 25)
-    states = model.run(pad_z_mm=z)
+    states = run_pad(model, pad_z_mm=z)
     centre = np.array([st.wheel_centre_mm for st in states])
     axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
     assert axes.reason is None
@@ -152,13 +152,14 @@ def test_mcpherson_matches_virtual_kingpin_construction():
     # about 7.5 deg caster, as the config's comment on its frame says
     assert 7.0 < design["caster_deg"] < 8.0 and 12 < design["kingpin_inclination_deg"] < 16
     # every step of the kinematic travel sweep, and its row at the design pad height
-    model = build_model(s, ModelOptions(kinematic=True), design_state(s))
+    model = build_model(kinematic_variant(s), ModelOptions(), design_state(s))
     sweep = parallel_travel(model, "initial_kinematic")
     c = sweep.columns
     row = np.flatnonzero((c["pad_z_mm"] == 0) & (c["branch"] == "stroke"))[0]
     for name in STEERING_AXIS_COLUMNS:
         assert c[name][row] == pytest.approx(design[name], abs=1e-6), name
-    states = model.run(pad_z_mm=np.r_[np.linspace(-5.0, -90.0, 18), np.linspace(-80.0, 90.0, 18)])
+    z = np.r_[np.linspace(-5.0, -90.0, 18), np.linspace(-80.0, 90.0, 18)]
+    states = run_pad(model, pad_z_mm=z)
     centre = np.array([st.wheel_centre_mm for st in states])
     axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
     j7, j8 = _moved(states, "knuckle", h["J7"]), _moved(states, "knuckle", h["J8"])
@@ -201,7 +202,7 @@ def test_summary_is_the_travel_zero_row_and_the_static_state(tmp_path):
 
 def test_summary_without_steering_columns_is_none():
     """Test data (no steering-axis channels) and a sweep without the zero pad height."""
-    from elastokin.rig.load_cases import Sweep
+    from elastokin.rig.sweeps import Sweep
 
     sw = Sweep("test", "parallel_travel", {"branch": np.array(["stroke"] * 3),
                                            "pad_z_mm": np.array([1.0, 2.0, 3.0]),
@@ -346,7 +347,7 @@ def test_compliant_steps_warn_nothing_on_the_shipped_case():
     with warnings.catch_warnings():
         warnings.simplefilter("error", SteeringAxisWarning)
         z = np.r_[np.linspace(-10.0, -90.0, 9), np.linspace(-70.0, 90.0, 9)]
-        states = model.run(pad_z_mm=z)
+        states = run_pad(model, pad_z_mm=z)
         cols = steering_axis_columns(states, s)
     assert all(np.isfinite(cols[name]).all() for name in STEERING_AXIS_COLUMNS)
 
@@ -360,7 +361,7 @@ def test_compliant_mcpherson_under_braking_matches_deflected_construction():
     h = s.hardpoints
     model = build_model(s, ModelOptions(), design_state(s))
     force = np.linspace(-2000.0, 2000.0, 9)
-    states = model.run(pad_loads=s.up * s.design.wheel_load_N + force[:, None] * s.forward)
+    states = run_pad(model, pad_loads=s.up * s.design.wheel_load_N + force[:, None] * s.forward)
     centre = np.array([st.wheel_centre_mm for st in states])
     axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
     top = _moved(states, "strut_rod", h["J4"])

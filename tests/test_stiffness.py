@@ -16,7 +16,7 @@ from elastokin.identification.stiffness import (
     stiffness_config,
     with_stiffness,
 )
-from elastokin.mbs.model import design_state
+from elastokin.mbs.design import design_state
 from elastokin.physics.laws import DirectionLaw, ProgressiveLaw
 from elastokin.rig.load_cases import run_load_cases
 
@@ -184,7 +184,7 @@ def test_parameter_without_effect_is_flagged_not_determined(coarse):
 
 def test_fitted_config_reproduces_the_fitted_model(coarse):
     from elastokin.config.loading import read_yaml
-    from elastokin.mbs.model import build_model
+    from elastokin.mbs.design import build_model
     from elastokin.rig.load_cases import static_equilibrium
 
     from .conftest import CASE

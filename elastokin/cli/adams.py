@@ -62,7 +62,8 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
     from an ADAMS hardpoint table (converted from the ADAMS frame, X rearward / Y right / Z up,
     to the template's frame) and the stiffness of the named bushings from .bus files."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
-    from elastokin.formats.adams import dump_config, import_adams, read_mapping
+    from elastokin.formats.adams_car import import_adams, read_mapping
+    from elastokin.formats.config_yaml import dump_config
 
     try:
         template, _ = read_yaml(template_path)
@@ -129,8 +130,8 @@ def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Pat
     per bushing (mm, newton, degrees), bushing_assembly.txt ([BUSHING_ASSEMBLY] blocks with the
     design preloads, to paste into a subsystem file) and mapping.yaml (for import-adams)."""
     from elastokin.config.loading import load_suspension, suspension_from_dict
-    from elastokin.formats.adams import export_adams as write_files
-    from elastokin.formats.adams import write_adams_kc_csv
+    from elastokin.formats.adams_export import export_adams as write_files
+    from elastokin.formats.adams_kc import write_adams_kc_csv
 
     try:
         s = load_suspension(config_path)
@@ -144,7 +145,7 @@ def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Pat
                                      s.sha256)
         preload = None
         if s.design.balance_bushing_preloads and s.bushings:
-            from elastokin.mbs.model import design_state
+            from elastokin.mbs.design import design_state
 
             preload = design_state(s).bushing_preload
         with Output(out_dir, marker="hardpoints.tbl") as tmp:

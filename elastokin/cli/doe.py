@@ -9,7 +9,6 @@ same command to resume).
 from __future__ import annotations
 
 import json
-import logging
 import os
 import sys
 import time
@@ -45,29 +44,6 @@ def _check_out(out: Path, store_name: str) -> None:
             and not (out / "doe.json").exists():
         raise ElastokinError(f"--out {out}: folder is not empty and holds no elastokin DOE "
                              f"study ({store_name}); choose another folder")
-
-
-def _client(scheduler: str | None, workers: int):
-    """A dask client: connected to ``scheduler``, or on a new LocalCluster of ``workers``
-    single-threaded worker processes. Returns (client, cluster or None)."""
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:
-        raise ElastokinError("dask.distributed is not installed: pip install "
-                             "'dask[distributed]', or run serially with --workers 1") from None
-    if scheduler is not None:
-        try:
-            return Client(scheduler, timeout="10s"), None
-        except (OSError, TimeoutError, ValueError) as exc:
-            detail = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise ElastokinError(f"--scheduler {scheduler}: cannot connect ({detail})") from None
-    import dask
-
-    # the workers' statistical profiler samples every 10 ms and costs ~10 % of a solve
-    with dask.config.set({"distributed.worker.profile.enabled": False}):
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
-    return Client(cluster), cluster
 
 
 @click.command()
@@ -111,10 +87,12 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     from tqdm import tqdm
 
     from elastokin.config.loading import load_suspension_with_rig
-    from elastokin.mbs.model import EXUDYN_VERSION
     from elastokin.report.doe_charts import doe_charts
     from elastokin.report.files import config_provenance
+    from elastokin.report.text import doe_table
     from elastokin.studies import doe as study_mod
+    from elastokin.studies.doe_runner import STORE, SampleStore, batch_size, dask_client, run_study
+    from elastokin.studies.doe_statistics import DEFINITIONS, aggregate
 
     t0 = time.perf_counter()
     out_dir = out_dir or Path("results") / f"{config_path.stem}_doe"
@@ -127,15 +105,15 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     try:
         suspension = load_suspension_with_rig(config_path, rig_path)
         study = study_mod.make_study(suspension, samples, method, seed, load_cases)
-        _check_out(out_dir, study_mod.STORE)
-        store = study_mod.SampleStore(out_dir / study_mod.STORE, study.header(), restart)
+        _check_out(out_dir, STORE)
+        store = SampleStore(out_dir / STORE, study.header(), restart)
         if restart:
             for old in out_dir.glob("doe*"):
                 old.unlink()
         resumed = len(store.records)
         if resumed and not quiet:
             click.echo(f"resuming: {resumed} of {samples} samples already in "
-                       f"{out_dir / study_mod.STORE}", err=True)
+                       f"{out_dir / STORE}", err=True)
         nominal = study_mod.nominal_characteristics(study)
         solver = study_mod.solver_settings(study)
         pending = samples - resumed
@@ -143,19 +121,19 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         with tqdm(total=samples, initial=resumed, disable=quiet, file=sys.stderr, leave=False,
                   unit="sample", desc="DOE samples") as bar:
             if pending and (scheduler is not None or workers > 1):
-                client, cluster = _client(scheduler, workers)
+                client, cluster = dask_client(scheduler, workers)
                 n = len(client.scheduler_info().get("workers", {}))
                 where = f"dask scheduler {client.scheduler.address}, {n} workers"
-                study_mod.run_study(study, store, client, progress=bar.update,
-                                    batch=study_mod.batch_size(pending, n))
+                run_study(study, store, client, progress=bar.update,
+                                    batch=batch_size(pending, n))
             else:
-                study_mod.run_study(study, store, None, progress=bar.update)
+                run_study(study, store, None, progress=bar.update)
         records = store.ordered()
-        body = study_mod.aggregate(study, records, nominal)
-        prov = config_provenance(suspension, EXUDYN_VERSION)
+        body = aggregate(study, records, nominal)
+        prov = config_provenance(suspension)
         files = [p.name for p in doe_charts(body, records, out_dir, prov)]
         doc = {**prov, "solver": solver, **body,
-               "files": ["doe.json", study_mod.STORE, "doe_run.json", *files],
+               "files": ["doe.json", STORE, "doe_run.json", *files],
                "definitions": DEFINITIONS}
         _write_json(out_dir / "doe.json", doc)
         _write_json(out_dir / "doe_run.json", {
@@ -175,7 +153,7 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         if cluster is not None:
             cluster.close()
     if not quiet:
-        click.echo(_report(doc, out_dir))
+        click.echo(doe_table(doc, out_dir))
     if doc["failed"]:
         click.echo(f"elastokin: {doc['failed']} of {samples} samples failed (see 'failures' in "
                    f"{out_dir / 'doe.json'}); the statistics use the {samples - doc['failed']} "
@@ -183,43 +161,3 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         sys.exit(EXIT_FAILED_SAMPLES)
 
 
-DEFINITIONS = {
-    "sampling": "unit-cube samples (lhs / sobol / mc, from seed) mapped uniformly onto each "
-                "joint's clearance region of radius dL_max: bushing disc normal to the housing "
-                "axis r = R sqrt(u1), phi = 2 pi u2 along the bushing frame's x, y; other "
-                "joints ball r = R u1^(1/3), cos(theta) = 1 - 2 u2, phi = 2 pi u3 in the "
-                "joint frame",
-    "statistics": "over the samples that solved: mean, std (ddof 1), p05 / p95 (linear "
-                  "interpolation), min, max, n",
-    "sensitivity": "sum over a joint's shift components of the squared standardised "
-                   "regression coefficients (linear least squares of the characteristic on "
-                   "all components, method 'src'), i.e. the joint's share of the variance "
-                   "explained linearly; with fewer samples than components + 2, the R^2 of a "
-                   "regression on the joint's own components (method 'src_per_joint')",
-    "characteristics": "as in elastokin kc summary.json (same names and units); parallel "
-                       "travel: steer amplitude and bump steer over the stroke, bump camber "
-                       "fitted over the stroke (rebound to bump)",
-}
-
-
-def _report(doc: dict, out_dir: Path) -> str:
-    s = doc["steer_amplitude_deg"]
-    lines = [f"DOE of {doc['config_file']}: {doc['samples']} samples ({doc['method']}, seed "
-             f"{doc['seed']}, load cases {doc['load_cases']}), {doc['failed']} failed", ""]
-    lines.append(f"  {'characteristic':<46}{'nominal':>10}{'mean':>10}{'std':>10}"
-                 f"{'p05':>10}{'p95':>10}")
-    nominal = doc.get("nominal") or {}
-
-    def num(x):
-        return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
-
-    for name, st in doc["characteristics"].items():
-        lines.append(f"  {name:<46}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
-                     f"{num(st['p05'])}{num(st['p95'])}")
-    sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
-    if sens and s["n"]:
-        ranked = sorted(sens, key=lambda k: -sens[k])
-        lines += ["", f"  steer-amplitude sensitivity ({doc['sensitivity_method']}): "
-                  + ", ".join(f"{k} {sens[k]:.2f}" for k in ranked)]
-    lines += ["", f"Results in {out_dir}/: " + ", ".join(doc["files"])]
-    return "\n".join(lines)

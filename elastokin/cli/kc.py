@@ -35,18 +35,9 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
     from tqdm import tqdm
 
     from elastokin.config.loading import load_suspension_with_rig
-    from elastokin.mbs.model import EXUDYN_VERSION
-    from elastokin.report.charts import kc_charts
-    from elastokin.report.files import (
-        provenance,
-        summary_dict,
-        write_identification,
-        write_kc_csv,
-        write_stiffness_identification,
-        write_summary,
-    )
-    from elastokin.report.html import write_report
-    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_vertical_kc
+    from elastokin.report.files import write_kc_results
+    from elastokin.report.text import kc_table
+    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc
 
     out_dir = out_dir or Path("results") / config_path.stem
     try:
@@ -54,85 +45,20 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
         labels = model_labels(suspension)
         stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
                   + 2 * fits_stiffness(suspension))
-        with tqdm(total=stages, disable=quiet, file=sys.stderr, leave=False,
-                  bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
+        with Output(out_dir) as tmp, tqdm(
+                total=stages, disable=quiet, file=sys.stderr, leave=False,
+                bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
             def progress(msg: str) -> None:
                 bar.set_description_str(msg)
                 bar.update(1)
-            run = run_vertical_kc(suspension, progress,
-                                  lambda m: bar.set_description_str(m, refresh=False))
+            run = run_kc(suspension, progress,
+                         lambda m: bar.set_description_str(m, refresh=False))
             progress("writing results")
-            with Output(out_dir) as tmp:
-                prov = provenance(run, EXUDYN_VERSION)
-                sweeps = [sw for m in run.models.values() for sw in m.sweeps]
-                write_kc_csv(tmp / "kc.csv", sweeps, prov)
-                files = ["kc.csv", "summary.json"]
-                if run.identification is not None:
-                    write_identification(tmp, run.identification, prov)
-                    files += ["identification.json", "identification.txt"]
-                if run.stiffness is not None:
-                    files += write_stiffness_identification(tmp, run.stiffness, prov)
-                charts = kc_charts(sweeps, tmp, prov)
-                files += [p.name for p in charts] + ["report.html"]
-                summary = summary_dict(run, EXUDYN_VERSION, files)
-                write_summary(tmp / "summary.json", summary)
-                write_report(tmp / "report.html", summary, charts)
+            summary = write_kc_results(run, tmp)
     except ElastokinError as exc:
         fail(str(exc))
     if not quiet:
-        click.echo(_report(summary, out_dir))
-
-
-def _report(summary: dict, out_dir: Path) -> str:
-    lines = [f"elastokin {summary['elastokin_version']} (exudyn {summary['exudyn_version']}), "
-             f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}"
-             + (f", rig {summary['rig_file']}" if summary.get("rig_file") else ""), ""]
-    st = summary["static"]
-    residual = st["wheel_assembly_force_residual_N"]
-    lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
-                 f"(force residual on the wheel assembly {residual:.1e} N)")
-    lines.append(f"  {'bushing':<10}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
-                 f"   reference {st['reference_source']}")
-    for name, b in st["bushings"].items():
-        ref = b.get("reference", {})
-        ref_txt = ", ".join(f"{k} {v:g}" for k, v in ref.items())
-        lines.append(f"  {name:<10}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
-                     f"{b['torsion_deg']:>13.4f}   {ref_txt}")
-    lines.append("")
-    def num(v, fmt):
-        return "-" if v is None else format(v, fmt)
-
-    errors = summary.get("errors", {})
-    head = f"  {'model':<22}{'steer amplitude deg':>21}{'bump steer deg/m':>18}"
-    if errors:
-        head += f"{'RMS error: steer/travel deg':>29}{'steer/lateral deg':>19}" \
-                f"{'long. disp. mm':>16}"
-    lines.append(head)
-    for label, m in summary["models"].items():
-        row = f"  {label:<22}{num(m['steer_amplitude_deg'], '.4f'):>21}" \
-              f"{num(m['bump_steer_deg_per_m'], '.3f'):>18}"
-        e = errors.get(label)
-        if e:
-            row += f"{num(e['steer_vs_travel_rms_deg'], '.4f'):>29}" \
-                   f"{num(e['steer_vs_lateral_force_rms_deg'], '.4f'):>19}" \
-                   f"{num(e['longitudinal_displacement_rms_mm'], '.3f'):>16}"
-        lines.append(row)
-    refs = summary["reference"]["steer_amplitude_deg"]
-    if refs:
-        lines.append("  reference steer amplitude (deg): "
-                     + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
-    lines += [f"  warning: {w}" for w in summary.get("warnings", [])]
-    fit = summary.get("stiffness_identification")
-    if fit:
-        lines += ["", "Bushing stiffness fitted to the test (model identified_stiffness; "
-                  f"details in {fit['file']}):"]
-        for key, v in fit["parameters"].items():
-            state = "" if v["determined"] else "  not determined"
-            lines.append(f"  {key:<26}{v['value']:>10.4g} {v['unit']:<8} 95 % "
-                         f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]{state}")
-    lines.append("")
-    lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
-    return "\n".join(lines)
+        click.echo(kc_table(summary, out_dir))
 
 
 @click.command()
@@ -157,60 +83,35 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
     identification.txt. With --stiffness, also the bushing-stiffness identification against
     the K&C test data (identified_stiffness.yaml: the identified model with the fitted laws).
     """
-    from elastokin.config.loading import load_suspension, suspension_from_dict
-    from elastokin.identification.geometric import identify as run_identification
-    from elastokin.identification.geometric import write_config
-    from elastokin.identification.stiffness import stiffness_config
-    from elastokin.mbs.model import EXUDYN_VERSION, design_state
-    from elastokin.report.files import (
-        config_provenance,
-        identification_table,
-        write_identification,
-        write_stiffness_identification,
-    )
-    from elastokin.studies.comparison import read_test_sweeps
-    from elastokin.studies.kc_job import fit_stiffness
+    from elastokin.config.loading import load_suspension
+    from elastokin.config.variants import ModelVariant
+    from elastokin.formats.kc_test_sweeps import read_test_sweeps
+    from elastokin.mbs.design import design_state
+    from elastokin.report.files import write_identification_results
+    from elastokin.report.text import identification_table
+    from elastokin.studies.identification import identified_suspension, identify_geometry
+    from elastokin.studies.kc_job import fit
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
     try:
         suspension = load_suspension(config_path)
         say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
-        test = read_test_sweeps(suspension)[0] if stiffness else []
-        ident = run_identification(suspension, progress=say)
-        fit = None
-        if stiffness:
-            start = suspension_from_dict(ident.identified_config,
-                                         f"{suspension.source} (identified)", suspension.sha256)
-            say("fitting bushing stiffness to the K&C test data (about a minute)")
-            fit = fit_stiffness(suspension, start, design_state(start), test)
-        prov = config_provenance(suspension, EXUDYN_VERSION)
         with Output(out_dir, marker="identification.json") as tmp:
-            header = (f"elastokin {prov['elastokin_version']} (exudyn "
-                      f"{prov['exudyn_version']}): {{what}} of {config_path} (sha256 "
-                      f"{prov['config_sha256'][:12]}).\nUnits: lengths mm, forces N, torques "
-                      "N*mm, angles deg; config frame.")
-            write_config(tmp / "identified.yaml", ident.identified_config,
-                         header.format(what="identified model (joints from the assembled "
-                                       "measurement, bushing deflections at equilibrium)"))
-            write_config(tmp / "initial.yaml", ident.initial_config,
-                         header.format(what="initial model (joints from the parts measured "
-                                       "alone, undeflected bushings)"))
-            write_identification(tmp, ident, prov)
-            files = ["identified.yaml", "initial.yaml", "identification.json",
-                     "identification.txt"]
-            if fit is not None:
-                write_config(tmp / "identified_stiffness.yaml",
-                             stiffness_config(ident.identified_config, fit),
-                             header.format(what="identified model with the bushing laws "
-                                           "fitted to the K&C test data"))
-                files += ["identified_stiffness.yaml",
-                          *write_stiffness_identification(tmp, fit, prov)]
+            test = read_test_sweeps(suspension)[0] if stiffness else []
+            ident = identify_geometry(suspension, progress=say)
+            result = None
+            if stiffness:
+                start = identified_suspension(ident)
+                say("fitting bushing stiffness to the K&C test data (about a minute)")
+                result = fit(suspension, ModelVariant("identified", start, design_state(start)),
+                             test)
+            files = write_identification_results(tmp, ident, result, config_path)
     except ElastokinError as exc:
         fail(str(exc))
     if not quiet:
         click.echo(identification_table(ident))
-        if fit is not None:
-            click.echo(fit.table())
+        if result is not None:
+            click.echo(result.table())
         click.echo(f"Results in {out_dir}/: " + ", ".join(files))
 
 

@@ -164,6 +164,7 @@ class BushingSpec(_Joint):
     preload: Preload | None = None
     initial_deflection: InitialDeflection | None = None
     ideal_joint: IdealJoint = "spherical"
+    kinematic: bool = False  # modelled by its ideal joint (as the file's ``kinematic: true``)
 
     @model_validator(mode="after")
     def _one_orientation(self) -> BushingSpec:

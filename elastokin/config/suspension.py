@@ -74,6 +74,9 @@ class Bushing:
     initial_deflection: np.ndarray
     ideal_joint: str
     preload_given: bool
+    #: modelled by its ideal joint (the config's ``kinematic: true``, for every bushing or
+    #: this one's); the model is then exact kinematics in this connection
+    kinematic: bool = False
 
 
 @dataclass(frozen=True)
@@ -333,7 +336,8 @@ class Resolver:
         else:
             u0 = np.zeros(6)
         return Bushing(name, parts, pos, frame, laws, u0, c.ideal_joint,
-                       c.preload is not None or c.initial_deflection is not None)
+                       c.preload is not None or c.initial_deflection is not None,
+                       kinematic=c.kinematic or self.spec.kinematic)
 
 
 #: constrained axes (tx ty tz rx ry rz) in the joint frame, whose z is the joint axis

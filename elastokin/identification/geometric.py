@@ -22,26 +22,28 @@
 5. The paper's check: at the identified model's static equilibrium (wheel load applied as a
    force) every joint sits at its measured location; the largest deviation is reported.
 
-Units mm, N, N*mm, deg; vehicle = config frame. Exudyn is used through :mod:`elastokin.model`.
+Pure geometry: the two solves (the bushing loads at the measured poses, the verification) are
+steps of :mod:`elastokin.studies.identification`, which passes their results to
+:func:`apply_design_loads` and :func:`verification_deviations`.
+
+Units mm, N, N*mm, deg; vehicle = config frame.
 """
 
 from __future__ import annotations
 
 import copy
-import fnmatch
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import yaml
 
-from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import check_measurements, hardpoint_name
 from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
+from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, MeasurementError
-from elastokin.formats.cmm import read_points
+from elastokin.formats.cmm_parts import PartMeasurement, read_assembly, read_part, read_truth
 from elastokin.physics.pose import (
     MarkMatch,
     deflection_operator,
@@ -49,71 +51,7 @@ from elastokin.physics.pose import (
     match_marks,
     zero_torsion_frame,
 )
-
-# ---------------------------------------------------------------------------------- data in
-
-
-@dataclass
-class PartMeasurement:
-    """One part measured alone (mm, the part's own frame)."""
-
-    part: str
-    source: str
-    marks: np.ndarray  # (4, 3)
-    points: dict[str, np.ndarray]  # hardpoint -> centre
-    axes: dict[str, np.ndarray]  # hardpoint -> unit axis (``<label>.Z`` line)
-    radials: dict[str, np.ndarray]  # hardpoint -> unit radial (``<label>.X`` line)
-
-
-def _unit(seg: np.ndarray) -> np.ndarray:
-    v = seg[1] - seg[0]
-    return v / np.linalg.norm(v)
-
-
-def read_part(part: str, spec, folder: Path) -> PartMeasurement:
-    """Read a part's file; labels -> marks and hardpoints (see ``docs/measurements.md``)."""
-    data = read_points(folder / spec.file)
-    missing = [m for m in spec.marks if m not in data.points]
-    if missing:
-        raise MeasurementError(
-            f"{data.source}: part '{part}': mark(s) {', '.join(missing)} not found (labels in "
-            f"the file: {', '.join(data.order) or 'none'}); a part needs its 4 marks "
-            f"({', '.join(spec.marks)})")
-    to_hardpoint = {label: hp for hp, label in spec.labels.items()}
-    points, axes, radials = {}, {}, {}
-    for label, xyz in data.points.items():
-        if label not in spec.marks:
-            points[to_hardpoint.get(label, label)] = xyz
-    for label, seg in data.lines.items():
-        base, _, kind = label.rpartition(".")
-        target = {"Z": axes, "X": radials}.get(kind.upper())
-        if base and target is not None:
-            target[to_hardpoint.get(base, base)] = _unit(seg)
-    marks = np.array([data.points[m] for m in spec.marks])
-    return PartMeasurement(part, data.source, marks, points, axes, radials)
-
-
-def read_assembly(spec, folder: Path, parts: list[str]) -> tuple[str, dict[str, np.ndarray]]:
-    """The assembled marks of each part (unordered), selected by the label patterns."""
-    data = read_points(folder / spec.file)
-    out: dict[str, list] = {p: [] for p in parts}
-    for label in data.order:
-        owners = [p for p in parts if fnmatch.fnmatchcase(label, spec.marks[p])]
-        if len(owners) > 1:
-            raise MeasurementError(f"{data.source}: mark '{label}' matches the patterns of "
-                                   f"parts {', '.join(owners)}")
-        if owners:
-            out[owners[0]].append(data.points[label])
-    for p, pts in out.items():
-        if len(pts) < 3:
-            raise MeasurementError(
-                f"{data.source}: part '{p}': {len(pts)} assembled mark(s) match the label "
-                f"pattern '{spec.marks[p]}'; at least 3 usable marks are needed for its pose")
-        if len(pts) > 4:
-            raise MeasurementError(f"{data.source}: part '{p}': {len(pts)} assembled marks "
-                                   f"match '{spec.marks[p]}'; a part has 4 marks")
-    return data.source, {p: np.array(v) for p, v in out.items()}
-
+from elastokin.physics.states import PartPoses
 
 # ---------------------------------------------------------------------------------- results
 
@@ -168,6 +106,8 @@ class Identification:
     verification_mm: dict[str, float] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
     sources: dict[str, str] = field(default_factory=dict)
+    #: each bushing's identified (outer sleeve) frame B2, vehicle frame (columns x y z)
+    outer_frames: dict[str, np.ndarray] = field(default_factory=dict)
 
     def to_json(self) -> dict:
         def vec(v):
@@ -246,27 +186,50 @@ def _clean(v, digits: int = 9) -> list[float]:
     return [float(f"{x:.{digits}g}") + 0.0 for x in np.asarray(v, float).ravel()]
 
 
-def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
-             verify: bool = True) -> Identification:
-    """Identify the geometry of ``suspension`` from its ``measurements`` (see module doc)."""
-    from elastokin.mbs.model import build_model, design_state
-
+def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m: None
+             ) -> Identification:
+    """Identify the geometry of ``suspension`` from its ``measurements`` (see module doc):
+    part poses, joints in the vehicle frame, the initial and identified configs. The
+    identified config still asks for its bushing preloads to be balanced; the study that
+    solves them calls :func:`apply_design_loads` (:mod:`elastokin.studies.identification`)."""
     s = suspension
     m = s.measurements
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: nothing to identify")
-    key = "measurements"
-    check_measurements(s, m, key)
+    check_measurements(s, m, "measurements")
     folder = Path(s.source).parent / m.folder
     progress("reading measurements")
     parts = {p: read_part(p, spec, folder) for p, spec in m.parts.items()}
     assembly_file, assembled = read_assembly(m.assembly, folder, list(m.parts))
     sources = {p: pm.source for p, pm in parts.items()}
     sources["assembly"] = assembly_file
-    warnings: list[str] = []
-
-    # ---- part poses [8-12]; the ground's pose fixes the CMM frame
     progress("part poses")
+    poses, warnings = part_poses(s, parts, assembled, assembly_file)
+    geo = _Geometry(s, _Features(parts, poses))
+    geo.locate()
+    initial_cfg = geo.config(geo.initial_hp, "initial: parts measured alone", 0)
+    ident_cfg = geo.config(geo.ident_hp, "identified", 1)
+    design = dict(s.raw["design"])
+    initial_cfg["design"] = {**design, "balance_bushing_preloads": False}
+    # identified deflections [22-23] come from the model held at the measured poses
+    ident_cfg["design"] = {**design, "balance_bushing_preloads": bool(s.bushings)}
+    if m.truth is not None:  # the synthetic truth, when there is one
+        truth = read_truth(folder / m.truth)
+        for name, j in geo.joints.items():
+            if name in truth:
+                j.truth_mm = truth[name]
+    return Identification(s, poses, geo.joints, initial_cfg, ident_cfg,
+                          warnings=warnings + geo.warnings, sources=sources,
+                          outer_frames={k: v[1] for k, v in geo.bushing_frames.items()})
+
+
+def part_poses(s: Suspension, parts: dict[str, PartMeasurement],
+               assembled: dict[str, np.ndarray], assembly_file: str
+               ) -> tuple[dict[str, PartPose], list[str]]:
+    """Every part's pose in the vehicle frame [8-12]: the marks matched and fitted in the CMM
+    frame, then expressed relative to the ground part's pose (which fixes the CMM frame)."""
+    m = s.measurements
+    warnings: list[str] = []
     matches = {}
     for p, pm in parts.items():
         try:
@@ -281,55 +244,96 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
                             "fitted to the other three")
     g = matches[s.ground]
     poses = {p: PartPose(p, g.R.T @ mm.R, g.R.T @ (mm.t - g.t), mm) for p, mm in matches.items()}
-    feats = _Features(parts, poses)
+    return poses, warnings
 
-    # ---- joints in the vehicle frame [19] and the two geometries
-    raw = s.raw
-    initial_hp: dict[str, np.ndarray] = {}
-    ident_hp: dict[str, np.ndarray] = {}
-    joints: dict[str, JointResult] = {}
-    bushing_frames: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # initial, identified
-    axes_measured: dict[str, np.ndarray] = {}
 
-    def place(hp: str, initial: np.ndarray, identified: np.ndarray) -> None:
-        if hp not in ident_hp:
-            initial_hp[hp], ident_hp[hp] = initial, identified
+class _Geometry:
+    """The joints in the vehicle frame at the loaded state [19] and the hardpoints of the two
+    geometries: initial (housing centres of the parts measured alone) and identified."""
 
-    spec_file = SuspensionFile.model_validate(raw)
-    for name, c in spec_file.connections.items():
-        ckey = f"connections.{name}"
-        jm = m.joints.get(name)
-        if isinstance(c, LinkSpec):
-            for part, at in zip(c.parts, c.at):
-                hp = hardpoint_name(at, ckey + ".at", s.source)
-                x = feats.point(part, hp, f"end of link '{name}'")
-                place(hp, x, x)
-                joints[f"{name}:{hp}"] = JointResult(f"{name}:{hp}", "link end", x, x)
-            continue
-        hp = hardpoint_name(c.at, ckey + ".at", s.source)
-        dl = jm.clearance.max_shift_mm if jm is not None and jm.clearance else None
-        if isinstance(c, BushingSpec):
-            inner = jm.inner
-            outer = c.parts[1] if c.parts[0] == inner else c.parts[0]
-            what = f"bushing '{name}'"
-            o2 = feats.point(outer, hp, what + ", outer sleeve centre")
-            z2 = feats.axis(outer, hp, what + ", outer sleeve axis")
-            x2 = feats.radial(outer, hp, what + ", outer sleeve radial direction")
-            housing = feats.point(inner, hp, what + ", inner sleeve housing centre")
-            w_h = feats.axis(inner, hp, what + ", housing axis")
-            w_h = w_h if w_h @ z2 >= 0 else -w_h
-            F2 = _frame(z2, x2)
-            F1 = zero_torsion_frame(w_h, F2[:, 1])  # [15-18]
-            bushing_frames[name] = (F1, F2)
-            place(hp, housing, o2)
-            joints[name] = JointResult(name, "bushing", housing, o2, max_shift_mm=dl)
-            continue
-        kind = c.type
+    def __init__(self, s: Suspension, feats: _Features):
+        self.s, self.feats = s, feats
+        self.initial_hp: dict[str, np.ndarray] = {}
+        self.ident_hp: dict[str, np.ndarray] = {}
+        self.joints: dict[str, JointResult] = {}
+        self.bushing_frames: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # initial, ident.
+        self.axes_measured: dict[str, np.ndarray] = {}
+        self.spin: np.ndarray | None = None
+        self.warnings: list[str] = []
+
+    def place(self, hp: str, initial: np.ndarray, identified: np.ndarray) -> None:
+        if hp not in self.ident_hp:
+            self.initial_hp[hp], self.ident_hp[hp] = initial, identified
+
+    def locate(self) -> None:
+        s, feats, raw = self.s, self.feats, self.s.raw
+        spec_file = SuspensionFile.model_validate(raw)
+        for name, c in spec_file.connections.items():
+            if isinstance(c, LinkSpec):
+                self.link(name, c)
+            elif isinstance(c, BushingSpec):
+                self.bushing(name, c)
+            else:
+                self.joint(name, c)
+        for sname, sp in spec_file.springs.items():
+            for part, seat in zip(sp.parts, sp.seats):
+                hp = hardpoint_name(seat, f"springs.{sname}.seats", s.source)
+                x = feats.point(part, hp, f"seat of spring '{sname}'")
+                self.place(hp, x, x)
+        w = raw["wheel"]
+        hp = hardpoint_name(w["centre"], "wheel.centre", s.source)
+        x = feats.point(w["part"], hp, "wheel centre")
+        self.place(hp, x, x)
+        if feats.has("axis", w["part"], hp):
+            self.spin = feats.axis(w["part"], hp, "wheel spin axis")
+        for hp_name in raw["hardpoints"]:
+            if hp_name not in self.ident_hp:
+                self.warnings.append(f"{s.source}: hardpoint '{hp_name}' is used by no "
+                                     "measured joint: kept at its config value")
+
+    def link(self, name: str, c: LinkSpec) -> None:
+        for part, at in zip(c.parts, c.at):
+            hp = hardpoint_name(at, f"connections.{name}.at", self.s.source)
+            x = self.feats.point(part, hp, f"end of link '{name}'")
+            self.place(hp, x, x)
+            self.joints[f"{name}:{hp}"] = JointResult(f"{name}:{hp}", "link end", x, x)
+
+    def _clearance(self, name: str) -> float | None:
+        jm = self.s.measurements.joints.get(name)
+        return jm.clearance.max_shift_mm if jm is not None and jm.clearance else None
+
+    def bushing(self, name: str, c: BushingSpec) -> None:
+        """The outer sleeve (exactly measured) gives the bushing frame; the inner sleeve is
+        bolted: its housing centre and axis give the initial frame with zero torsion [15-18]."""
+        feats = self.feats
+        hp = hardpoint_name(c.at, f"connections.{name}.at", self.s.source)
+        inner = self.s.measurements.joints[name].inner
+        outer = c.parts[1] if c.parts[0] == inner else c.parts[0]
+        what = f"bushing '{name}'"
+        o2 = feats.point(outer, hp, what + ", outer sleeve centre")
+        z2 = feats.axis(outer, hp, what + ", outer sleeve axis")
+        x2 = feats.radial(outer, hp, what + ", outer sleeve radial direction")
+        housing = feats.point(inner, hp, what + ", inner sleeve housing centre")
+        w_h = feats.axis(inner, hp, what + ", housing axis")
+        w_h = w_h if w_h @ z2 >= 0 else -w_h
+        F2 = _frame(z2, x2)
+        F1 = zero_torsion_frame(w_h, F2[:, 1])  # [15-18]
+        self.bushing_frames[name] = (F1, F2)
+        self.place(hp, housing, o2)
+        self.joints[name] = JointResult(name, "bushing", housing, o2,
+                                        max_shift_mm=self._clearance(name))
+
+    def joint(self, name: str, c) -> None:
+        """A joint: a bolted side is known by its housing centre, the other side exactly
+        [27]; an axis measured on its parts replaces the config's explicit axis."""
+        feats, parts = self.feats, self.feats.parts
+        hp = hardpoint_name(c.at, f"connections.{name}.at", self.s.source)
         sides = [p for p in c.parts if feats.has("point", p, hp)]
         if not sides:
             raise MeasurementError(f"{', '.join(parts[p].source for p in c.parts)}: joint "
                                    f"'{name}': no point labelled '{hp}' on part "
                                    f"'{c.parts[0]}' or '{c.parts[1]}'")
+        jm = self.s.measurements.joints.get(name)
         bolted = jm.bolted if jm is not None else None
         if bolted is not None:
             exact = c.parts[1] if c.parts[0] == bolted else c.parts[0]
@@ -337,134 +341,85 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
             initial = feats.point(bolted, hp, f"joint '{name}', housing centre")
         else:
             ident = initial = np.mean([feats.point(p, hp, "") for p in sides], axis=0)
-        place(hp, initial, ident)
-        joints[name] = JointResult(name, kind, initial, ident, max_shift_mm=dl)
+        self.place(hp, initial, ident)
+        self.joints[name] = JointResult(name, c.type, initial, ident,
+                                        max_shift_mm=self._clearance(name))
         axis_sides = [p for p in c.parts if feats.has("axis", p, hp)]
         if axis_sides:
             a = [feats.axis(p, hp, "") for p in axis_sides]
             a = [v if v @ a[0] >= 0 else -v for v in a]
-            axes_measured[name] = np.mean(a, axis=0) / np.linalg.norm(np.mean(a, axis=0))
-    for sname, sp in spec_file.springs.items():
-        for part, seat in zip(sp.parts, sp.seats):
-            hp = hardpoint_name(seat, f"springs.{sname}.seats", s.source)
-            x = feats.point(part, hp, f"seat of spring '{sname}'")
-            place(hp, x, x)
-    w = raw["wheel"]
-    hp = hardpoint_name(w["centre"], "wheel.centre", s.source)
-    x = feats.point(w["part"], hp, "wheel centre")
-    place(hp, x, x)
-    spin = feats.axis(w["part"], hp, "wheel spin axis") if feats.has(
-        "axis", w["part"], hp) else None
-    for hp_name in raw["hardpoints"]:
-        if hp_name not in ident_hp:
-            warnings.append(f"{s.source}: hardpoint '{hp_name}' is used by no measured joint: "
-                            "kept at its config value")
+            self.axes_measured[name] = np.mean(a, axis=0) / np.linalg.norm(np.mean(a, axis=0))
 
-    # ---- the two configs
-    def config(hardpoints, label):
+    def config(self, hardpoints: dict[str, np.ndarray], label: str, frame: int) -> dict:
+        """The config of one geometry: hardpoints, measured axes and spin axis, bushing
+        frames (``frame`` 0: initial, 1: identified) as z-x-z Euler angles [20-21]."""
+        raw = self.s.raw
         d = copy.deepcopy(raw)
         d.pop("measurements", None)
         d.pop("kc_test", None)
         d["name"] = f"{raw['name']} ({label})"
         d["hardpoints"] = {k: _clean(hardpoints.get(k, v)) for k, v in raw["hardpoints"].items()}
-        for name, a in axes_measured.items():
+        for name, a in self.axes_measured.items():
             spec = d["connections"][name]
             k = "torsion_axis" if spec["type"] == "universal" else "axis"
             if k in spec and not isinstance(spec[k], dict):  # an explicit vector: measured
                 sign = 1.0 if np.dot(spec[k], a) >= 0 else -1.0
                 spec[k] = _clean(sign * a)
-        if spin is not None and not isinstance(d["wheel"]["spin_axis"], dict):
-            sign = 1.0 if np.dot(d["wheel"]["spin_axis"], spin) >= 0 else -1.0
-            d["wheel"]["spin_axis"] = _clean(sign * spin)
-        return d
-
-    initial_cfg = config(initial_hp, "initial: parts measured alone")
-    ident_cfg = config(ident_hp, "identified")
-    for name, (F1, F2) in bushing_frames.items():
-        for d, F in ((initial_cfg, F1), (ident_cfg, F2)):
+        if self.spin is not None and not isinstance(d["wheel"]["spin_axis"], dict):
+            sign = 1.0 if np.dot(d["wheel"]["spin_axis"], self.spin) >= 0 else -1.0
+            d["wheel"]["spin_axis"] = _clean(sign * self.spin)
+        for name, frames in self.bushing_frames.items():
             spec = d["connections"][name]
             for k in ("axis", "radial", "euler_zxz_deg", "preload", "initial_deflection"):
                 spec.pop(k, None)
-            spec["euler_zxz_deg"] = _clean(euler_zxz_deg(F))
-    design = dict(raw["design"])
-    initial_cfg["design"] = {**design, "balance_bushing_preloads": False}
+            spec["euler_zxz_deg"] = _clean(euler_zxz_deg(frames[frame]))
+        return d
 
-    # ---- identified deflections [22-23]: the model held at the measured poses
-    progress("bushing loads at the measured poses")
-    ident_cfg["design"] = {**design, "balance_bushing_preloads": bool(s.bushings)}
-    balanced = suspension_from_dict(ident_cfg, f"{s.source} (identified)")
-    state = design_state(balanced)
+
+def apply_design_loads(ident: Identification, balanced: Suspension,
+                       state: DesignState) -> None:
+    """The identified model's bushing deflections [22-23] from the loads its bushings carry
+    with the model held at the measured poses (``state``, solved on ``balanced``, the
+    identified config's suspension): written into the identified config as initial
+    deflections, with the inner-sleeve frame B* = B2 D^-1 [24-26] and its centre reported;
+    the balanced spring's preload; the design without balancing (the file is the model)."""
+    s, cfg = ident.suspension, ident.identified_config
+    design = dict(s.raw["design"])
     for b in balanced.bushings:
         u0 = np.array([law.deflection_at(f) for law, f in zip(b.laws, state.bushing_preload[
             b.name])])
-        ident_cfg["connections"][b.name]["initial_deflection"] = {
+        cfg["connections"][b.name]["initial_deflection"] = {
             "translation_mm": _clean(u0[:3]), "rotation_deg": _clean(u0[3:])}
-        inner = m.joints[b.name].inner
+        inner = s.measurements.joints[b.name].inner
         sign = 1.0 if b.parts[0] == inner else -1.0  # deflection = parts[1] rel. parts[0]
-        F2 = bushing_frames[b.name][1]
         D = deflection_operator(sign * u0[:3], sign * u0[3:])  # outer rel. inner [24-25]
-        B_inner = F2 @ D[:3, :3].T  # B* = B2 D^-1 [26], in the vehicle frame
-        j = joints[b.name]
+        B_inner = ident.outer_frames[b.name] @ D[:3, :3].T  # B* = B2 D^-1 [26], vehicle frame
+        j = ident.joints[b.name]
         j.identified_mm = j.identified_mm - B_inner @ D[:3, 3]
         j.euler_zxz_deg = euler_zxz_deg(B_inner)
         j.deflection = u0
     for sname, force in state.spring_force_N.items():
-        spec = ident_cfg["springs"][sname]
         if design.get("balance_spring") == sname:
-            spec["preload_N"] = _clean([force])[0]
-    ident_cfg["design"] = {"wheel_load_N": design["wheel_load_N"]}
-
-    # ---- the synthetic truth, when there is one
-    if m.truth is not None:
-        truth = _read_truth(folder / m.truth)
-        for name, j in joints.items():
-            if name in truth:
-                j.truth_mm = truth[name]
-
-    result = Identification(s, poses, joints, initial_cfg, ident_cfg, warnings=warnings,
-                            sources=sources)
-    if verify:
-        progress("verifying the identified model")
-        _verify(result, build_model)
-    return result
+            cfg["springs"][sname]["preload_N"] = _clean([force])[0]
+    cfg["design"] = {"wheel_load_N": design["wheel_load_N"]}
 
 
-def _read_truth(path: Path) -> dict[str, np.ndarray]:
-    try:
-        data = yaml.safe_load(path.read_text())
-        return {k: np.asarray(v, float) for k, v in data["joints"].items()}
-    except (OSError, yaml.YAMLError, KeyError, TypeError, ValueError) as exc:
-        raise MeasurementError(f"{path}: unreadable truth file ({exc})") from None
-
-
-def _verify(result: Identification, build_model) -> None:
-    """[7] At the identified model's static equilibrium under the wheel load (a force at the
-    contact patch), every joint of every moving part sits at its measured location."""
-    from elastokin.rig.load_cases import static_equilibrium
-
-    s = suspension_from_dict(result.identified_config,
-                             f"{result.suspension.source} (identified)")
-    model = build_model(s)
-    static_equilibrium(model)
-    poses = model.part_poses()
+def verification_deviations(ident: Identification, identified: Suspension,
+                            poses: PartPoses) -> None:
+    """[7] The distance of every joint of every moving part from its measured location, at
+    the identified model's static equilibrium under the wheel load (``poses``, solved on
+    ``identified``): stored in ``ident``."""
     dev: dict[str, float] = {}
-    for name in result.joints:
+    for name in ident.joints:
         connection, _, end = name.partition(":")  # a link end is "<link>:<hardpoint>"
-        spec = result.identified_config["connections"][connection]
+        spec = ident.identified_config["connections"][connection]
         if end:
             at, parts = end, [spec["parts"][spec["at"].index(end)]]
         else:
             at, parts = spec["at"], spec["parts"]
-        parts = [p for p in parts if p != s.ground]
-        x = np.asarray(s.hardpoints[at])
+        parts = [p for p in parts if p != identified.ground]
+        x = np.asarray(identified.hardpoints[at])
         dev[name] = max([float(np.linalg.norm(poses.moved(p, x) - x)) for p in parts],
                         default=0.0)
-    result.verification_mm = dev
-    result.verification_max_deviation_mm = max(dev.values(), default=0.0)
-
-
-def write_config(path: Path, config: dict, header: str) -> None:
-    """A config dict as YAML, with a comment header (units, provenance)."""
-    text = yaml.safe_dump(config, sort_keys=False, default_flow_style=None, width=100)
-    lines = "".join(f"# {ln}\n" for ln in header.splitlines())
-    Path(path).write_text(lines + text)
+    ident.verification_mm = dev
+    ident.verification_max_deviation_mm = max(dev.values(), default=0.0)

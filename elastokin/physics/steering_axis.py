@@ -226,84 +226,90 @@ def _cross(a, b):
                      a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=-1)
 
 
-def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
-                  position: dict[str, np.ndarray], reference: dict[str, np.ndarray],
-                  wheel_centre: np.ndarray) -> SteeringAxes:
-    """Steering axis at S steps from the part poses.
+@dataclass(frozen=True)
+class _Steps:
+    """The part poses at ``n`` steps and the layout of the unknowns: 6 columns per moving part
+    from ``col[part]`` on (its angular velocity times ``_L``, then the velocity of the point
+    where its reference point now is), ``N`` in all; the ground part has none."""
 
-    rotation[part]: (S, 3, 3) rotation from the design position; position[part]: (S, 3) mm,
-    where the part's reference point ``reference[part]`` (3,) now is. Every moving part of the
-    skeleton must be given; the ground part is not. wheel_centre: (S, 3) mm (the returned
-    point is the axis point closest to it).
-    """
-    n = len(wheel_centre)
-    if skeleton.reason is not None:
-        return _nan_axes(n, skeleton.reason)
-    parts = sorted(p for p in rotation if p not in skeleton.eliminated)
-    col = {p: 6 * i for i, p in enumerate(parts)}
-    N = 6 * len(parts)
-    eye = np.broadcast_to(np.eye(3), (n, 3, 3))
+    skeleton: SteeringSkeleton
+    rotation: dict[str, np.ndarray]
+    position: dict[str, np.ndarray]
+    reference: dict[str, np.ndarray]
+    n: int
+    col: dict[str, int]
+    N: int
+    eye: np.ndarray  # (n, 3, 3) identity: the ground part's rotation
 
-    def pose(part):
-        if part == skeleton.ground:
-            return eye, None
-        return rotation[part], position[part]
+    def pose(self, part):
+        if part == self.skeleton.ground:
+            return self.eye, None
+        return self.rotation[part], self.position[part]
 
-    def moved(part, p):
-        R, c = pose(part)
+    def moved(self, part, p):
+        R, c = self.pose(part)
         if c is None:
-            return np.broadcast_to(p, (n, 3))
-        return np.einsum("sij,j->si", R, p - reference[part]) + c
+            return np.broadcast_to(p, (self.n, 3))
+        return np.einsum("sij,j->si", R, p - self.reference[part]) + c
 
-    rows: list[np.ndarray] = []  # the constraints
-    steer: list[np.ndarray] = []  # the released steering input's rates
-
-    def translation_row(parts, q, a, rows):
+    def translation_row(self, parts, q, a) -> np.ndarray:
         """a . (v1(q[1]) - v0(q[0])) = 0: a (S, 3) unit, v0 / v1 the velocities of parts[0] /
         parts[1] at the points q (S, 3)."""
-        row = np.zeros((n, N))
+        row = np.zeros((self.n, self.N))
         for sign, part, qk in ((-1.0, parts[0], q[0]), (1.0, parts[1], q[1])):
-            if part == skeleton.ground:
+            if part == self.skeleton.ground:
                 continue
-            r = qk - position[part]
-            k = col[part]
+            r = qk - self.position[part]
+            k = self.col[part]
             row[:, k:k + 3] += sign * _cross(r, a) / _L
             row[:, k + 3:k + 6] += sign * a
-        rows.append(row)
+        return row
 
-    def rotation_row(parts, w, rows):
-        row = np.zeros((n, N))
+    def rotation_row(self, parts, w) -> np.ndarray:
+        row = np.zeros((self.n, self.N))
         for sign, part in ((-1.0, parts[0]), (1.0, parts[1])):
-            if part != skeleton.ground:
-                row[:, col[part]:col[part] + 3] += sign * w / _L
-        rows.append(row)
+            if part != self.skeleton.ground:
+                row[:, self.col[part]:self.col[part] + 3] += sign * w / _L
+        return row
 
-    for e in skeleton.elements:
+
+def _constraint_rows(steps: _Steps) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The skeleton's velocity constraints at every step, (S, N) rows: those of the
+    constraints, and the rates of the released steering input."""
+    rows: list[np.ndarray] = []  # the constraints
+    steer: list[np.ndarray] = []  # the released steering input's rates
+    for e in steps.skeleton.elements:
         target = steer if e.released else rows
         if e.kind == "distance":  # d|q1 - q0|/dt = 0, each end moving with its part
             ends = e.anchors or ((e.parts[0], e.points[0]), (e.parts[1], e.points[1]))
-            q = (moved(*ends[0]), moved(*ends[1]))
+            q = (steps.moved(*ends[0]), steps.moved(*ends[1]))
             d = q[1] - q[0]
-            translation_row(e.parts, q, d / np.linalg.norm(d, axis=-1, keepdims=True), target)
+            target.append(steps.translation_row(
+                e.parts, q, d / np.linalg.norm(d, axis=-1, keepdims=True)))
             continue
         # joint: d/dt [F0^T (q1 - q0)] = F0^T (v1(q1) - v0(q1)) in the constrained directions
         # (the joint's offset, e.g. a strut's slide or a bushing's deflection, is held in the
         # frame of part 0, as Exudyn's generic joint does): both velocities at q1
-        q1 = moved(e.parts[1], e.points[1])
-        F0 = pose(e.parts[0])[0] @ e.frame  # (S, 3, 3) joint frame on part 0, columns = axes
+        q1 = steps.moved(e.parts[1], e.points[1])
+        F0 = steps.pose(e.parts[0])[0] @ e.frame  # (S, 3, 3) joint frame on part 0, columns = axes
         for i in range(3):
             if e.flags[i]:
-                translation_row(e.parts, (q1, q1), F0[:, :, i], target)
+                target.append(steps.translation_row(e.parts, (q1, q1), F0[:, :, i]))
         if any(e.flags[3:]):
-            F1 = pose(e.parts[1])[0] @ e.frame
+            F1 = steps.pose(e.parts[1])[0] @ e.frame
             dual = _tait_bryan_dual(np.swapaxes(F0, 1, 2) @ F1)
             for i in range(3):
                 if e.flags[3 + i]:
-                    rotation_row(e.parts, np.einsum("sij,sj->si", F0, dual[:, i, :]),
-                                 target)
-    A = np.stack(rows, axis=1)  # (S, m, N)
-    E = np.stack(steer, axis=1)  # (S, r, N)
-    k = col[skeleton.wheel_part]
+                    target.append(steps.rotation_row(
+                        e.parts, np.einsum("sij,sj->si", F0, dual[:, i, :])))
+    return rows, steer
+
+
+def _wheel_twists(A: np.ndarray, E: np.ndarray, k: int, n: int) -> tuple[np.ndarray, str | None]:
+    """The wheel part's twist per step (its columns ``k:k+6``, i.e. ``(omega * _L, v)``, of
+    unit norm) from the constraint rows ``A`` (S, m, N) and the steering rates ``E`` (S, r, N):
+    NaN rows, and the first reason, where the wheel part does not keep exactly one motion
+    that moves the steering input."""
     twist = np.full((n, 6), np.nan)
     bad: str | None = None
     for idx, null in _null_spaces(A):
@@ -329,13 +335,21 @@ def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
                           "input (the springs lock the steering, not the travel?)")
         ok &= moves
         twist[idx[ok]] = u[ok, :, 0]
+    return twist, bad
+
+
+def _screw_axes(twist: np.ndarray, bad: str | None, position: dict[str, np.ndarray],
+                wheel_part: str, wheel_centre: np.ndarray) -> SteeringAxes:
+    """The screw axis of the wheel part's ``twist`` (S, 6) per step: direction pointing up,
+    the point closest to ``wheel_centre``, the pitch; ``bad`` (or a pure translation) is the
+    reason."""
     omega, v = twist[:, :3] / _L, twist[:, 3:]
     w2 = np.sum(omega * omega, axis=-1)
     translation = w2 < (ONE_DOF_TOLERANCE / _L) ** 2
     if np.any(translation):
         bad = bad or "the steering motion is a pure translation (no axis)"
         w2 = np.where(translation, np.nan, w2)
-    c = position[skeleton.wheel_part]
+    c = position[wheel_part]
     direction = omega / np.sqrt(w2)[:, None]
     flip = np.where(direction[:, 2:3] < 0, -1.0, 1.0)  # config z is up
     direction = direction * flip
@@ -343,6 +357,30 @@ def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
     point = point + np.sum((wheel_centre - point) * direction, axis=-1)[:, None] * direction
     pitch = np.sum(omega * v, axis=-1) / w2
     return SteeringAxes(direction, point, pitch, bad)
+
+
+def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
+                  position: dict[str, np.ndarray], reference: dict[str, np.ndarray],
+                  wheel_centre: np.ndarray) -> SteeringAxes:
+    """Steering axis at S steps from the part poses.
+
+    rotation[part]: (S, 3, 3) rotation from the design position; position[part]: (S, 3) mm,
+    where the part's reference point ``reference[part]`` (3,) now is. Every moving part of the
+    skeleton must be given; the ground part is not. wheel_centre: (S, 3) mm (the returned
+    point is the axis point closest to it).
+    """
+    n = len(wheel_centre)
+    if skeleton.reason is not None:
+        return _nan_axes(n, skeleton.reason)
+    parts = sorted(p for p in rotation if p not in skeleton.eliminated)
+    col = {p: 6 * i for i, p in enumerate(parts)}
+    steps = _Steps(skeleton, rotation, position, reference, n, col, 6 * len(parts),
+                   np.broadcast_to(np.eye(3), (n, 3, 3)))
+    rows, steer = _constraint_rows(steps)
+    A = np.stack(rows, axis=1)  # (S, m, N)
+    E = np.stack(steer, axis=1)  # (S, r, N)
+    twist, bad = _wheel_twists(A, E, col[skeleton.wheel_part], n)
+    return _screw_axes(twist, bad, position, skeleton.wheel_part, wheel_centre)
 
 
 def steering_axes_from_poses(skeleton: SteeringSkeleton, poses: list,

@@ -1,10 +1,13 @@
-"""Charts (matplotlib only here). Every chart carries its provenance in a footer."""
+"""Charts of a K&C run (matplotlib is imported in this package only, lazily). Every chart
+carries its provenance in a footer; labels, units and signs come from the channel table."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from elastokin.rig.load_cases import Sweep, steer_amplitude_deg
+from elastokin.rig.channels import LOAD_CASES, channel
+from elastokin.rig.characteristics import steer_amplitude_deg
+from elastokin.rig.sweeps import Sweep
 
 STYLE = {
     "test": {"color": "black", "linestyle": "-", "linewidth": 2.0},
@@ -15,7 +18,8 @@ STYLE = {
 }
 
 
-def _figure():
+def new_figure():
+    """A 7 x 5 in figure with room for the provenance footer: (pyplot, figure, axes)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -26,7 +30,8 @@ def _figure():
     return plt, fig, ax
 
 
-def _footer(fig, provenance: dict) -> None:
+def provenance_footer(fig, provenance: dict) -> None:
+    """The versions and config hash every chart carries."""
     fig.text(0.01, 0.005, f"elastokin {provenance['elastokin_version']}, exudyn "
              f"{provenance['exudyn_version']}, config {provenance['config_file']} sha256 "
              f"{provenance['config_sha256'][:12]}", fontsize=6, color="0.4",
@@ -36,7 +41,7 @@ def _footer(fig, provenance: dict) -> None:
 def _overlay(sweeps: list[Sweep], x: str, y: str, xlabel: str, ylabel: str, title: str,
              name: str, out_dir: Path, provenance: dict, legend=None,
              stroke_only: bool = False) -> list[Path]:
-    plt, fig, ax = _figure()
+    plt, fig, ax = new_figure()
     for sw in sweeps:
         style = STYLE.get(sw.model, {})
         xs = sw.stroke(x) if stroke_only else sw.columns[x]
@@ -47,7 +52,7 @@ def _overlay(sweeps: list[Sweep], x: str, y: str, xlabel: str, ylabel: str, titl
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     ax.legend()
-    _footer(fig, provenance)
+    provenance_footer(fig, provenance)
     paths = [out_dir / f"{name}.png", out_dir / f"{name}.svg"]
     fig.savefig(paths[0], dpi=150)
     fig.savefig(paths[1], metadata={"Date": None})
@@ -59,49 +64,45 @@ def steer_vs_travel(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> lis
     """Toe (steer) vs wheel travel, one line per model (measured stroke only), as PNG and SVG
     (the paper's Fig. 9a). Returns the files written."""
     return _overlay([sw for sw in sweeps if sw.load_case == "parallel_travel"],
-                    "wheel_travel_mm", "toe_deg", "wheel travel [mm] (+ bump)",
-                    "toe [deg] (+ toe-in)", "Steer vs parallel wheel travel",
+                    "wheel_travel_mm", "toe_deg", axis_label("parallel_travel", "wheel_travel_mm"),
+                    axis_label("parallel_travel", "toe_deg"), "Steer vs parallel wheel travel",
                     "steer_vs_travel", out_dir, provenance, stroke_only=True,
                     legend=lambda sw: f"{sw.model} (amplitude {steer_amplitude_deg(sw):.3f} deg)")
 
 
-#: the charts of every K&C run: file name -> (load case, x, y, x label, y label, title)
+#: the charts of every K&C run: file name -> (load case, x, y, title); axis labels from the
+#: channel table (the load case's input label on x)
 CHARTS = {
-    "steer_vs_lateral_force": (
-        "lateral_force", "lateral_force_N", "toe_deg",
-        "lateral force at the contact patch [N] (+ to the vehicle's left)",
-        "toe [deg] (+ toe-in)", "Steer vs lateral force (Fig. 9b)"),
-    "longitudinal_displacement_vs_force": (
-        "longitudinal_force_patch", "longitudinal_force_N", "wheel_centre_longitudinal_mm",
-        "longitudinal force at the contact patch [N] (+ forward; braking -)",
-        "wheel-centre longitudinal displacement [mm] (+ forward)",
-        "Longitudinal displacement vs force (Fig. 9c)"),
-    "camber_vs_travel": (
-        "parallel_travel", "wheel_travel_mm", "camber_deg", "wheel travel [mm] (+ bump)",
-        "camber [deg] (+ top outboard)", "Camber vs parallel wheel travel"),
-    "track_vs_travel": (
-        "parallel_travel", "wheel_travel_mm", "wheel_centre_lateral_mm",
-        "wheel travel [mm] (+ bump)", "wheel-centre lateral displacement [mm] (+ left)",
-        "Wheel-centre lateral displacement vs travel"),
-    "vertical_force_vs_travel": (
-        "vertical_force", "wheel_travel_mm", "vertical_force_N", "wheel travel [mm] (+ bump)",
-        "vertical force at the contact patch [N]", "Vertical force vs wheel travel"),
-    "steer_vs_traction_force": (
-        "longitudinal_force_centre", "longitudinal_force_N", "toe_deg",
-        "longitudinal force at the wheel centre [N] (+ forward: traction)",
-        "toe [deg] (+ toe-in)", "Steer vs traction force"),
-    "steer_vs_aligning_torque": (
-        "aligning_torque", "aligning_torque_Nmm", "toe_deg",
-        "aligning torque [N*mm] (+ about the vertical axis, up)", "toe [deg] (+ toe-in)",
-        "Steer vs aligning torque"),
+    "steer_vs_lateral_force": ("lateral_force", "lateral_force_N", "toe_deg",
+                               "Steer vs lateral force (Fig. 9b)"),
+    "longitudinal_displacement_vs_force": ("longitudinal_force_patch", "longitudinal_force_N",
+                                           "wheel_centre_longitudinal_mm",
+                                           "Longitudinal displacement vs force (Fig. 9c)"),
+    "camber_vs_travel": ("parallel_travel", "wheel_travel_mm", "camber_deg",
+                         "Camber vs parallel wheel travel"),
+    "track_vs_travel": ("parallel_travel", "wheel_travel_mm", "wheel_centre_lateral_mm",
+                        "Wheel-centre lateral displacement vs travel"),
+    "vertical_force_vs_travel": ("vertical_force", "wheel_travel_mm", "vertical_force_N",
+                                 "Vertical force vs wheel travel"),
+    "steer_vs_traction_force": ("longitudinal_force_centre", "longitudinal_force_N", "toe_deg",
+                                "Steer vs traction force"),
+    "steer_vs_aligning_torque": ("aligning_torque", "aligning_torque_Nmm", "toe_deg",
+                                 "Steer vs aligning torque"),
 }
+
+
+def axis_label(load_case: str, column: str) -> str:
+    """A column's axis label: the load case's input label for its input, else the channel's."""
+    lc = LOAD_CASES[load_case]
+    return lc.label if column == lc.input else channel(column).label
 
 
 def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> list[Path]:
     """Every chart of a K&C run whose load case was run, each overlaying all models."""
     paths = steer_vs_travel(sweeps, out_dir, provenance)
-    for name, (case, x, y, xl, yl, title) in CHARTS.items():
+    for name, (case, x, y, title) in CHARTS.items():
         chosen = [sw for sw in sweeps if sw.load_case == case]
         if chosen:
-            paths += _overlay(chosen, x, y, xl, yl, title, name, out_dir, provenance)
+            paths += _overlay(chosen, x, y, axis_label(case, x), axis_label(case, y), title,
+                              name, out_dir, provenance)
     return paths

@@ -8,24 +8,14 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.report.charts import _footer
+from elastokin.report.charts import provenance_footer
+from elastokin.rig.channels import CHARACTERISTICS
 
-#: axis labels of the characteristics (units and signs as in summary.json)
-LABELS = {
-    "steer_amplitude_deg": "steer amplitude [deg] (max - min toe over the stroke)",
-    "bump_steer_deg_per_m": "bump steer [deg/m] (+ toe-in in bump)",
-    "bump_camber_deg_per_m": "bump camber [deg/m] (stroke)",
-    "wheel_rate_N_per_mm": "wheel rate [N/mm]",
-    "lateral_compliance_steer_deg_per_kN": "lateral compliance steer [deg/kN]",
-    "lateral_compliance_camber_deg_per_kN": "lateral compliance camber [deg/kN]",
-    "lateral_compliance_mm_per_kN": "lateral compliance [mm/kN]",
-    "longitudinal_compliance_mm_per_kN": "longitudinal compliance (patch) [mm/kN]",
-    "longitudinal_compliance_steer_deg_per_kN": "longitudinal compliance steer (patch) [deg/kN]",
-    "traction_compliance_mm_per_kN": "traction compliance [mm/kN]",
-    "traction_compliance_steer_deg_per_kN": "traction compliance steer [deg/kN]",
-    "aligning_torque_compliance_steer_deg_per_kNm": "aligning-torque compliance steer "
-                                                    "[deg/kN*m]",
-}
+
+def label(name: str) -> str:
+    """Axis label of a characteristic (units and signs as in summary.json)."""
+    c = CHARACTERISTICS.get(name)
+    return name if c is None else f"{c.label} [{c.unit}]"
 
 
 def _plt():
@@ -38,7 +28,7 @@ def _plt():
 
 
 def _save(plt, fig, name: str, out_dir: Path, provenance: dict) -> list[Path]:
-    _footer(fig, provenance)
+    provenance_footer(fig, provenance)
     paths = [out_dir / f"{name}.png", out_dir / f"{name}.svg"]
     fig.savefig(paths[0], dpi=150)
     with plt.rc_context({"svg.hashsalt": "elastokin"}):  # reproducible SVG ids
@@ -78,7 +68,7 @@ def steer_amplitude_histogram(doe: dict, records: list[dict], out_dir: Path,
     fig.get_layout_engine().set(rect=(0.0, 0.03, 1.0, 0.97))
     name = "steer_amplitude_deg"
     nominal = (doe.get("nominal") or {}).get(name)
-    _histogram(ax, _values(records, name), doe["steer_amplitude_deg"], nominal, LABELS[name])
+    _histogram(ax, _values(records, name), doe["steer_amplitude_deg"], nominal, label(name))
     s = doe["steer_amplitude_deg"]
     txt = "" if s["mean"] is None else (f": mean {s['mean']:.3f}, p05 {s['p05']:.3f}, "
                                         f"p95 {s['p95']:.3f} deg")
@@ -101,7 +91,7 @@ def characteristics_histograms(doe: dict, records: list[dict], out_dir: Path,
     nominal = doe.get("nominal") or {}
     for ax, name in zip(axes.flat, names):
         _histogram(ax, _values(records, name), doe["characteristics"][name], nominal.get(name),
-                   LABELS.get(name, name))
+                   label(name))
     for ax in list(axes.flat)[len(names):]:
         ax.set_visible(False)
     fig.suptitle(f"K&C characteristics over {doe['completed'] - doe['failed']} as-built "

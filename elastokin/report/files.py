@@ -1,4 +1,5 @@
-"""Result files of ``elastokin kc``: ``kc.csv`` (long format) and ``summary.json``.
+"""Result files: ``kc.csv`` (long format), ``summary.json``, the identification and
+stiffness-fit files, written configs, and the whole results folder of a K&C run.
 
 Every file carries its provenance: the elastokin and Exudyn versions, the SHA-256 of the config
 file and the solver settings. Units are in the column names (mm, N, N*mm, deg).
@@ -10,45 +11,23 @@ import csv
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elastokin.rig.load_cases import Sweep
-from elastokin.studies.kc_job import KCRun
-from elastokin.version import __version__
+from elastokin.report.text import identification_table
+from elastokin.rig.channels import sign_conventions
+from elastokin.rig.sweeps import Sweep
+from elastokin.version import __version__, exudyn_version
 
-SIGN_CONVENTIONS = {
-    "frame": "the config frame (see its 'frame' key); wheel-centre coordinates in it",
-    "toe_deg": "toe angle, positive toe-in (ISO 8855 / SAE J670); 'steer' in the paper",
-    "camber_deg": "camber angle, positive top of the wheel leaning outboard",
-    "wheel_travel_mm": "wheel-centre vertical displacement from the design position, + bump",
-    "pad_z_mm": "prescribed vertical displacement of the contact patch (rig input), + up",
-    "contact_patch_f*_N": "force the rig applies to the tyre at the contact patch, config frame",
-    "spring_*_force_N": "coil spring force, positive in compression",
-    "bushing_*": "deflection of the part-2 sleeve relative to part 1, bushing frame (z axial, "
-                 "x main radial), incl. the preload deflection; rotations Tait-Bryan x-y-z",
-    "caster_deg": "steering-axis inclination from the vertical in side view, + top rearward "
-                  "(docs/characteristics.md)",
-    "kingpin_inclination_deg": "steering-axis inclination from the vertical in front view, "
-                               "+ top inboard",
-    "scrub_radius_mm": "ground-plane offset of the steering axis from the contact point normal "
-                       "to the wheel/ground line, + axis inboard",
-    "caster_trail_mm": "ground-plane offset of the steering axis from the contact point along "
-                       "the wheel/ground line, + axis ahead",
-    "bump_steer_deg_per_m": "least-squares slope of toe vs wheel travel over +-50 mm",
-    "steer_amplitude_deg": "max - min toe over the measured stroke",
-}
+if TYPE_CHECKING:
+    from elastokin.studies.kc_job import KCRun
 
-
-def provenance(run: KCRun, exudyn_version: str) -> dict:
-    return config_provenance(run.suspension, exudyn_version)
-
-
-def config_provenance(s, exudyn_version: str) -> dict:
+def config_provenance(s) -> dict:
     """Versions, config file and its SHA-256, units: carried by every result file."""
     return {
         "elastokin_version": __version__,
-        "exudyn_version": exudyn_version,
+        "exudyn_version": exudyn_version(),
         "config_file": str(s.source),
         "config_sha256": s.sha256,
         "rig_file": s.rig_source or None,  # None: the config's own rig section
@@ -86,7 +65,9 @@ def _fmt(x) -> str:
     return "" if math.isnan(x) else repr(round(x, 10))
 
 
-def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
+def summary_dict(run: KCRun, files: list[str]) -> dict:
+    """``summary.json``: per model its characteristics and solver settings, the errors against
+    the test, the static equilibrium, the design preloads, the stiffness fit, provenance."""
     st = run.static
     ref = run.suspension.reference
     bushings = {}
@@ -97,7 +78,7 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
             entry["reference"] = r.model_dump(exclude_none=True)
         bushings[name] = entry
     return {
-        **provenance(run, exudyn_version),
+        **config_provenance(run.suspension),
         "solver": {label: m.solver for label, m in run.models.items()},
         "models": {label: m.summary() for label, m in run.models.items()},
         "errors": run.errors,
@@ -119,7 +100,7 @@ def summary_dict(run: KCRun, exudyn_version: str, files: list[str]) -> dict:
         "warnings": run.warnings,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
-        "sign_conventions": SIGN_CONVENTIONS,
+        "sign_conventions": sign_conventions(),
         "files": files,
     }
 
@@ -149,45 +130,6 @@ def identification_dict(ident, prov: dict) -> dict:
             }}
 
 
-def identification_table(ident) -> str:
-    """A readable summary of an identification (plain text)."""
-    d = ident.to_json()
-    out = [f"Geometric identification of {ident.suspension.name}",
-           f"  config {ident.suspension.source}; units mm, deg; config frame", "",
-           "Part poses from the assembled marks [8-12]",
-           f"  {'part':<12}{'residual RMS mm':>16}  dropped mark"]
-    marks = ident.suspension.measurements.parts
-    for p, v in d["parts"].items():
-        dropped = "-" if v["dropped_mark"] is None else marks[p].marks[v["dropped_mark"]]
-        out.append(f"  {p:<12}{v['residual_rms_mm']:>16.4f}  {dropped}")
-    out += ["", "Joints (loaded state): identified - initial shift, and error against the "
-            "synthetic truth when known",
-            f"  {'joint':<12}{'kind':<11}{'shift x':>9}{'y':>8}{'z':>8}{'|shift|':>9}"
-            f"{'dL_max':>8}{'error':>8}"]
-    for n, j in d["joints"].items():
-        sx, sy, sz = j["shift_mm"]
-        dl = "" if j["max_shift_mm"] is None else f"{j['max_shift_mm']:.2f}"
-        err = "" if j["error_vs_truth_mm"] is None else f"{j['error_vs_truth_mm']:.3f}"
-        out.append(f"  {n:<12}{j['kind']:<11}{sx:>9.3f}{sy:>8.3f}{sz:>8.3f}"
-                   f"{math.hypot(sx, sy, sz):>9.3f}{dl:>8}{err:>8}")
-    out += ["", "Bushing deflections at static equilibrium [22-23] (part 2 rel. part 1, "
-            "bushing frame)",
-            f"  {'bushing':<10}{'radial mm':>10}{'axial mm':>10}{'torsion deg':>12}"
-            f"   B* z-x-z Euler deg [20-21]"]
-    for n, j in d["joints"].items():
-        if j["deflection_mm_deg"] is not None:
-            u = j["deflection_mm_deg"]
-            e = ", ".join(f"{a:.2f}" for a in j["euler_zxz_deg"])
-            out.append(f"  {n:<10}{math.hypot(u[0], u[1]):>10.3f}{u[2]:>10.3f}{u[5]:>12.4f}"
-                       f"   ({e})")
-    out += ["", f"Verification [7]: at the identified model's static equilibrium the joints "
-            f"are within {d['verification_max_deviation_mm']:.2e} mm of their measured "
-            "locations"]
-    if d["warnings"]:
-        out += ["", "Warnings:"] + [f"  - {w}" for w in d["warnings"]]
-    return "\n".join(out) + "\n"
-
-
 def write_identification(folder: Path, ident, prov: dict) -> None:
     (folder / "identification.json").write_text(
         json.dumps(identification_dict(ident, prov), indent=2) + "\n")
@@ -213,3 +155,91 @@ def write_stiffness_identification(folder: Path, fit, prov: dict) -> list[str]:
         json.dumps({**prov, **fit.to_json()}, indent=2) + "\n")
     (folder / "stiffness_identification.txt").write_text(fit.table())
     return ["stiffness_identification.json", "stiffness_identification.txt"]
+
+
+def write_config(path: Path, config: dict, header: str) -> None:
+    """A config dict as YAML, with a comment header (units, provenance)."""
+    import yaml
+
+    text = yaml.safe_dump(config, sort_keys=False, default_flow_style=None, width=100)
+    lines = "".join(f"# {ln}\n" for ln in header.splitlines())
+    Path(path).write_text(lines + text)
+
+
+def write_kc_results(run: KCRun, folder: Path) -> dict:
+    """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
+    (when there are), the charts, summary.json and report.html. Returns the summary."""
+    from elastokin.report.charts import kc_charts
+    from elastokin.report.html import write_report
+
+    prov = config_provenance(run.suspension)
+    sweeps = [sw for m in run.models.values() for sw in m.sweeps]
+    write_kc_csv(folder / "kc.csv", sweeps, prov)
+    files = ["kc.csv", "summary.json"]
+    if run.identification is not None:
+        write_identification(folder, run.identification, prov)
+        files += ["identification.json", "identification.txt"]
+    if run.stiffness is not None:
+        files += write_stiffness_identification(folder, run.stiffness, prov)
+    charts = kc_charts(sweeps, folder, prov)
+    files += [p.name for p in charts] + ["report.html"]
+    summary = summary_dict(run, files)
+    write_summary(folder / "summary.json", summary)
+    write_report(folder / "report.html", summary, charts)
+    return summary
+
+
+def write_identification_results(folder: Path, ident, fit, config_path: Path) -> list[str]:
+    """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
+    ``elastokin kc`` loads), identification.json / .txt and, with a stiffness ``fit``,
+    identified_stiffness.yaml and stiffness_identification.json / .txt. Returns the names."""
+    from elastokin.identification.stiffness_results import stiffness_config
+
+    prov = config_provenance(ident.suspension)
+    header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
+              f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
+              "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+    write_config(folder / "identified.yaml", ident.identified_config,
+                 header.format(what="identified model (joints from the assembled "
+                               "measurement, bushing deflections at equilibrium)"))
+    write_config(folder / "initial.yaml", ident.initial_config,
+                 header.format(what="initial model (joints from the parts measured alone, "
+                               "undeflected bushings)"))
+    write_identification(folder, ident, prov)
+    files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
+    if fit is not None:
+        write_config(folder / "identified_stiffness.yaml",
+                     stiffness_config(ident.identified_config, fit),
+                     header.format(what="identified model with the bushing laws fitted to "
+                                   "the K&C test data"))
+        files += ["identified_stiffness.yaml",
+                  *write_stiffness_identification(folder, fit, prov)]
+    return files
+
+
+def read_kc_csv(path: str | Path) -> list[Sweep]:
+    """The sweeps of a ``kc.csv`` (as :func:`write_kc_csv` wrote them): one per model and
+    load case, in file order, numeric columns as float arrays (NaN where empty)."""
+    path = Path(path)
+    lines = [ln for ln in path.read_text().splitlines() if ln and not ln.startswith("#")]
+    rows = list(csv.reader(lines))
+    header, body = rows[0], rows[1:]
+    groups: dict[tuple[str, str], list[list[str]]] = {}
+    for r in body:
+        groups.setdefault((r[0], r[1]), []).append(r)
+    sweeps = []
+    for (model, case), rs in groups.items():
+        cols: dict[str, np.ndarray] = {"branch": np.array([r[3] for r in rs])}
+        for k, name in enumerate(header[4:], start=4):
+            values = [r[k] for r in rs]
+            if all(v == "" for v in values):
+                continue
+            cols[name] = np.array([float(v) if v != "" else np.nan for v in values])
+        sweeps.append(Sweep(model, case, cols))
+    return sweeps
+
+
+def read_results(folder: str | Path) -> tuple[dict, list[Sweep]]:
+    """An ``elastokin kc`` results folder: summary.json and the sweeps of kc.csv."""
+    folder = Path(folder)
+    return json.loads((folder / "summary.json").read_text()), read_kc_csv(folder / "kc.csv")

@@ -9,33 +9,11 @@ import html
 import json
 from pathlib import Path
 
-#: summary keys shown in the characteristics table: key -> (label, unit, format)
-ROWS = {
-    "caster_deg": ("caster (static)", "deg", ".2f"),
-    "kingpin_inclination_deg": ("kingpin inclination (static)", "deg", ".2f"),
-    "scrub_radius_mm": ("scrub radius (static)", "mm", ".2f"),
-    "caster_trail_mm": ("caster trail (static)", "mm", ".2f"),
-    "steer_amplitude_deg": ("steer amplitude over the travel stroke", "deg", ".4f"),
-    "bump_steer_deg_per_m": ("bump steer (+-50 mm)", "deg/m", ".3f"),
-    "bump_camber_deg_per_m": ("bump camber", "deg/m", ".3f"),
-    "wheel_rate_N_per_mm": ("wheel rate", "N/mm", ".2f"),
-    "lateral_compliance_steer_deg_per_kN": ("lateral compliance steer", "deg/kN", ".4f"),
-    "lateral_compliance_camber_deg_per_kN": ("lateral compliance camber", "deg/kN", ".4f"),
-    "lateral_compliance_mm_per_kN": ("lateral wheel-centre compliance", "mm/kN", ".3f"),
-    "longitudinal_compliance_mm_per_kN": ("longitudinal compliance (braking)", "mm/kN", ".3f"),
-    "longitudinal_compliance_steer_deg_per_kN": ("longitudinal compliance steer", "deg/kN",
-                                                 ".4f"),
-    "traction_compliance_mm_per_kN": ("traction compliance", "mm/kN", ".3f"),
-    "traction_compliance_steer_deg_per_kN": ("traction compliance steer", "deg/kN", ".4f"),
-    "aligning_torque_compliance_steer_deg_per_kNm": ("aligning-torque compliance steer",
-                                                     "deg/kNm", ".4f"),
-}
-ERROR_ROWS = {
-    "steer_vs_travel_rms_deg": ("steer vs travel (Fig. 9a)", "deg", ".4f"),
-    "steer_vs_lateral_force_rms_deg": ("steer vs lateral force (Fig. 9b)", "deg", ".4f"),
-    "longitudinal_displacement_rms_mm": ("longitudinal displacement vs force (Fig. 9c)", "mm",
-                                         ".3f"),
-}
+from elastokin.rig.channels import CHARACTERISTIC_LIST, ERROR_LIST
+
+#: the characteristics and errors tables: (summary key, label, unit, number format)
+ROWS = [(c.name, (c.label, c.unit, c.fmt)) for c in CHARACTERISTIC_LIST]
+ERROR_ROWS = [(e.name, (e.label, e.unit, e.fmt)) for e in ERROR_LIST]
 
 _CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;
@@ -79,7 +57,7 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
                      "config (for the shipped case study: SYNTHETIC data, see the README).</p>")
     parts.append("<h2>Characteristics</h2>")
     rows = [[f"{html.escape(label)} [{unit}]", *(_fmt(models[m].get(key), fmt) for m in labels)]
-            for key, (label, unit, fmt) in ROWS.items()]
+            for key, (label, unit, fmt) in ROWS]
     parts.append(_table(["characteristic", *labels], rows))
     refs = summary.get("reference", {}).get("steer_amplitude_deg", {})
     if refs:
@@ -97,7 +75,7 @@ def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
         err_labels = list(errors)
         rows = [[f"{html.escape(label)} [{unit}]",
                  *(_fmt(errors[m].get(key), fmt) for m in err_labels)]
-                for key, (label, unit, fmt) in ERROR_ROWS.items()]
+                for key, (label, unit, fmt) in ERROR_ROWS]
         parts.append(_table(["RMS error", *err_labels], rows))
     fit = summary.get("stiffness_identification")
     if fit:

@@ -1,32 +1,72 @@
-"""The ``elastokin kc`` job: which models are built from a config and which load cases run on
-them. Exudyn stays behind :mod:`elastokin.model`; this module only sequences the work."""
+"""The ``elastokin kc`` job as a chain of named steps, each a function with explicit inputs
+and outputs (units mm, N, N*mm, deg; config frame):
+
+1. ``test_data``: the config's K&C test files as sweeps (bad files fail before any solving);
+2. ``geometry``: with CMM measurements, the identified geometry
+   (:func:`elastokin.studies.identification.identify_geometry`);
+3. ``model_variants``: which models run (initial, identified, initial_kinematic);
+4. ``preloads``: each variant's design preloads (one solve per distinct suspension);
+5. ``static``: the static equilibrium of the reported model under the design wheel load;
+6. ``load_cases``: every load case of the rig on every model, and its compliance matrix;
+7. ``fit``: with test data, the bushing-stiffness fit and its model ``identified_stiffness``;
+8. ``compare``: every model against the test (errors, warnings).
+
+Entry points run the chain from a config (:func:`run_kc`), from an identification result
+(:func:`run_kc_from_identification`) or from built variants (:func:`run_kc_from_variants`).
+The result files are written by :mod:`elastokin.report`.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+
+import numpy as np
 
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import hidden_stiffness
 from elastokin.config.suspension import Suspension
+from elastokin.config.variants import DesignState, ModelVariant, kinematic
 from elastokin.errors import ConfigError
-from elastokin.identification.geometric import Identification, identify
-from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, stiffness_model
-from elastokin.mbs.model import (
-    DesignState,
-    ModelOptions,
-    SuspensionModel,
-    build_model,
-    design_state,
-)
+from elastokin.formats.kc_test_sweeps import read_test_sweeps
+from elastokin.identification.geometric import Identification
+from elastokin.identification.stiffness import StiffnessFit, identify_stiffness
+from elastokin.mbs.design import build_model, design_state
+from elastokin.mbs.model import SuspensionModel
+from elastokin.rig.characteristics import summary_figures
+from elastokin.rig.comparison import model_errors, travel_stroke_note
 from elastokin.rig.load_cases import (
-    ModelResult,
     StaticResult,
     compliance_matrix,
     run_load_cases,
     static_equilibrium,
 )
-from elastokin.studies.comparison import model_errors, read_test_sweeps, travel_stroke_note
+from elastokin.rig.sweeps import Sweep, find_sweep
+from elastokin.studies.identification import identify_geometry
+
+Progress = Callable[[str], None]
+
+
+def _quiet(msg: str) -> None:
+    return None
+
+
+@dataclass
+class ModelResult:
+    """Everything the K&C run produced for one model."""
+
+    label: str
+    kinematic: bool
+    sweeps: list[Sweep]
+    solver: dict
+    compliance: np.ndarray | None = None  # see elastokin.rig.load_cases.compliance_matrix
+
+    def sweep(self, load_case: str) -> Sweep | None:
+        return find_sweep(self.sweeps, load_case)
+
+    def summary(self) -> dict:
+        """Summary figures (:func:`elastokin.rig.characteristics.summary_figures`)."""
+        return summary_figures(self.sweeps, self.kinematic, self.compliance)
 
 
 @dataclass
@@ -44,19 +84,81 @@ class KCRun:
     warnings: list[str] = field(default_factory=list)  # on comparing the models with the test
 
 
+# ------------------------------------------------------------------------------- the steps
+def test_data(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
+    """Step ``test_data``: the config's K&C test files as sweeps, and the files read."""
+    return read_test_sweeps(suspension)
+
+
+def geometry(suspension: Suspension, progress: Progress = _quiet) -> Identification | None:
+    """Step ``geometry``: the identified geometry when the config has CMM measurements."""
+    if suspension.measurements is None:
+        return None
+    progress("identifying the geometry from CMM data")
+    return identify_geometry(suspension)
+
+
 def model_labels(suspension: Suspension) -> list[str]:
     """The models of a K&C run.
 
     With CMM ``measurements``: ``initial`` (joints from the parts measured alone) and
-    ``identified`` (see :mod:`elastokin.identify`). Otherwise ``initial`` (the config's
-    geometry; kinematic when the config says ``kinematic: true``) and, when it is compliant,
-    ``initial_kinematic`` (every bushing replaced by its ideal joint) for comparison.
+    ``identified`` (see :mod:`elastokin.identification.geometric`). Otherwise ``initial``
+    (the config's geometry; kinematic when the config says ``kinematic: true``) and, when it
+    is compliant, ``initial_kinematic`` (every bushing replaced by its ideal joint).
     """
     if suspension.measurements is not None:
         return ["initial", "identified"]
     if not suspension.kinematic and suspension.bushings:
         return ["initial", "initial_kinematic"]
     return ["initial"]
+
+
+def model_variants(suspension: Suspension, ident: Identification | None = None
+                   ) -> dict[str, ModelVariant]:
+    """Step ``model_variants``: the models of the run (:func:`model_labels`), each the
+    template with its overrides."""
+    s = suspension
+    if ident is not None:
+        return {label: ModelVariant(label, suspension_from_dict(cfg, f"{s.source} ({label})",
+                                                                s.sha256))
+                for label, cfg in (("initial", ident.initial_config),
+                                   ("identified", ident.identified_config))}
+    variants = {"initial": ModelVariant("initial", s)}
+    if "initial_kinematic" in model_labels(s):
+        variants["initial_kinematic"] = ModelVariant("initial_kinematic", kinematic(s))
+    return variants
+
+
+def preloads(variants: dict[str, ModelVariant]) -> dict[str, ModelVariant]:
+    """Step ``preloads``: every variant with its design preloads (solved once per distinct
+    geometry: a kinematic variant shares its template's)."""
+    solved: dict[str, DesignState] = {}
+    out = {}
+    for label, v in variants.items():
+        key = v.suspension.source + v.suspension.sha256 + repr(v.suspension.hardpoints)
+        if v.preloads is None and key not in solved:
+            solved[key] = design_state(v.suspension)
+        out[label] = v if v.preloads is not None else replace(v, preloads=solved[key])
+    return out
+
+
+def static(variant: ModelVariant, model: SuspensionModel | None = None) -> StaticResult:
+    """Step ``static``: the static equilibrium under the design wheel load (on ``model``,
+    the variant's built model, when given)."""
+    return static_equilibrium(model or build_model(variant))
+
+
+def load_cases(variant: ModelVariant, progress: Progress = _quiet,
+               model: SuspensionModel | None = None) -> ModelResult:
+    """Step ``load_cases``: every load case of the rig on one model (``model``, the variant's
+    built model, when given), and (compliant models) the compliance matrix at the static
+    equilibrium."""
+    progress(f"model '{variant.label}': K&C load cases")
+    model = model or build_model(variant)
+    sweeps = run_load_cases(model, variant.label)
+    compliance = None if variant.kinematic else compliance_matrix(model)
+    return ModelResult(variant.label, variant.kinematic, sweeps, model.solver_settings(),
+                       compliance)
 
 
 def fits_stiffness(suspension: Suspension) -> bool:
@@ -67,76 +169,79 @@ def fits_stiffness(suspension: Suspension) -> bool:
             and bool(s.bushings) and not s.kinematic)
 
 
-def fit_stiffness(suspension: Suspension, start: Suspension, design: DesignState,
-                  test: list, detail: Callable[[str], None] = lambda msg: None) -> StiffnessFit:
-    """The bushing-stiffness identification of the config ``suspension`` (its
+def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
+        detail: Progress = _quiet) -> StiffnessFit:
+    """Step ``fit``: the bushing-stiffness identification of the config ``suspension`` (its
     ``kc_test.stiffness_identification``; the synthetic truth, if any, for the report only),
-    starting from the model ``start`` with the preloads of ``design``."""
+    starting from the model ``start`` with its preloads."""
     s = suspension
     if not fits_stiffness(s):
         raise ConfigError(f"{s.source}: stiffness identification needs a 'kc_test' section "
                           "with K&C test files, bushings, a compliant model (kinematic: false) "
                           "and kc_test.stiffness_identification.enabled: true")
-    return identify_stiffness(start, design, test, s.kc_test.stiffness_identification, detail,
+    return identify_stiffness(start.suspension, start.preloads, test,
+                              s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
 
 
-def run_vertical_kc(suspension: Suspension,
-                    progress: Callable[[str], None] = lambda msg: None,
-                    detail: Callable[[str], None] = lambda msg: None) -> KCRun:
-    """Identification (with measurements), design preloads, the static equilibrium and every
-    load case of every model; with K&C test data, the errors of each model and (see
-    :func:`fits_stiffness`) the bushing-stiffness identification, whose model
-    ``identified_stiffness`` starts from the static model (identified, else initial).
-    ``progress`` is called once per stage, ``detail`` for steps within one."""
-    s = suspension
-    ident = None
-    test_sweeps, test_files = read_test_sweeps(s)  # bad test files fail before any solving
-    if s.measurements is not None:
-        progress("identifying the geometry from CMM data")
-        ident = identify(s)
-        variants = {
-            label: (suspension_from_dict(cfg, f"{s.source} ({label})", s.sha256),
-                    ModelOptions(kinematic=s.kinematic))
-            for label, cfg in (("initial", ident.initial_config),
-                               ("identified", ident.identified_config))}
-        static_label = "identified"
-    else:
-        variants = {"initial": (s, ModelOptions(kinematic=s.kinematic))}
-        if "initial_kinematic" in model_labels(s):
-            variants["initial_kinematic"] = (s, ModelOptions(kinematic=True))
-        static_label = "initial"
-    designs: dict[int, DesignState] = {}
-    static = design = None
-    models = {}
+def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str]
+            ) -> tuple[dict[str, ModelResult], dict[str, dict], list[str]]:
+    """Step ``compare``: the test as the model ``test`` first, the errors of every model
+    against it and the warnings (none without test data)."""
+    if not test:
+        return models, {}, []
+    errors = {label: model_errors(m.sweeps, test) for label, m in models.items()}
+    note = travel_stroke_note({k: m.sweeps for k, m in models.items()}, test)
+    result = ModelResult("test", False, test,
+                         {"source": "K&C rig test data (kc_test)", "files": files})
+    return {"test": result, **models}, errors, [note] if note else []
 
-    def run_model(label: str, model: SuspensionModel, kinematic: bool) -> None:
-        progress(f"model '{label}': K&C load cases")
-        sweeps = run_load_cases(model, label)
-        compliance = None if kinematic else compliance_matrix(model)
-        models[label] = ModelResult(label, kinematic, sweeps, model.solver_settings(),
-                                    compliance)
 
-    for label, (susp, options) in variants.items():
+# ------------------------------------------------------------------------------- entry points
+def run_kc(suspension: Suspension, progress: Progress = _quiet,
+           detail: Progress = _quiet) -> KCRun:
+    """The whole job from a config: identification (with measurements), design preloads, the
+    static equilibrium and every load case of every model; with K&C test data, the errors of
+    each model and the bushing-stiffness fit (:func:`fits_stiffness`). ``progress`` is
+    called once per stage, ``detail`` for steps within one."""
+    test, files = test_data(suspension)  # bad test files fail before any solving
+    ident = geometry(suspension, progress)
+    return run_kc_from_identification(suspension, ident, progress, detail, (test, files))
+
+
+def run_kc_from_identification(suspension: Suspension, ident: Identification | None,
+                               progress: Progress = _quiet, detail: Progress = _quiet,
+                               test: tuple[list[Sweep], list[str]] | None = None) -> KCRun:
+    """The job from an identification result (None: the config's own geometry)."""
+    test = test if test is not None else test_data(suspension)
+    variants = model_variants(suspension, ident)
+    static_label = "identified" if ident is not None else "initial"
+    run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail)
+    run.identification = ident
+    return run
+
+
+def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVariant],
+                         static_label: str, test: tuple[list[Sweep], list[str]] = ([], []),
+                         progress: Progress = _quiet, detail: Progress = _quiet) -> KCRun:
+    """The job from model variants: ``static_label`` names the one whose static equilibrium
+    is reported and from which the stiffness fit starts."""
+    variants = preloads(variants)
+    models, static_result = {}, None
+    for label, v in variants.items():
         progress(f"model '{label}': building")
-        if id(susp) not in designs:
-            designs[id(susp)] = design_state(susp)
-        model = build_model(susp, options, designs[id(susp)])
+        model = build_model(v)
         if label == static_label:
             progress("static equilibrium")
-            static, design = static_equilibrium(model), designs[id(susp)]
-        run_model(label, model, options.kinematic)
-    fit = None
-    if test_sweeps and fits_stiffness(s):
+            static_result = static(v, model)
+        models[label] = load_cases(v, progress, model)
+    stiffness = None
+    test_sweeps, files = test
+    if test_sweeps and fits_stiffness(suspension):
         progress("identifying bushing stiffness from the K&C test data")
-        fit = fit_stiffness(s, variants[static_label][0], design, test_sweeps, detail)
-        run_model("identified_stiffness", stiffness_model(fit.suspension, design), False)
-    errors, warnings = {}, []
-    if test_sweeps:
-        test = ModelResult("test", False, test_sweeps,
-                           {"source": "K&C rig test data (kc_test)", "files": test_files})
-        errors = {label: model_errors(m.sweeps, test_sweeps) for label, m in models.items()}
-        note = travel_stroke_note({k: m.sweeps for k, m in models.items()}, test_sweeps)
-        warnings += [note] if note else []
-        models = {"test": test, **models}
-    return KCRun(s, design, static, models, ident, errors, fit, warnings)
+        stiffness = fit(suspension, variants[static_label], test_sweeps, detail)
+        fitted = ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
+        models["identified_stiffness"] = load_cases(fitted, progress)
+    models, errors, warnings = compare(models, test_sweeps, files)
+    return KCRun(suspension, variants[static_label].preloads, static_result, models, None,
+                 errors, stiffness, warnings)

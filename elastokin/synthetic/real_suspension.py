@@ -11,7 +11,7 @@ the config's ``kc_test.synthetic`` section:
    deflection in mm or deg). Each bushing keeps the as-built design load, so the static
    equilibrium under the wheel load, which the CMM measured, is unchanged;
 3. **dry friction in ball joints**: a Jenkins element per named spherical joint (breakaway
-   torque, presliding rotation; :class:`elastokin.model.SuspensionModel`), which makes
+   torque, presliding rotation; :mod:`elastokin.mbs.friction`), which makes
    loading and unloading differ (hysteresis);
 4. optional Gaussian rig noise on the measured channels.
 
@@ -25,16 +25,26 @@ forward +, aligning torque toe-in +).
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
 import numpy as np
 
 from elastokin.config.schema import RealSuspensionSpec, SyntheticSpec
 from elastokin.config.suspension import Suspension
+from elastokin.config.variants import (
+    BallJointFriction,
+    DesignState,
+    ModelVariant,
+    relabelled,
+    with_bushing_laws,
+)
 from elastokin.errors import ConfigError
+from elastokin.formats.kc_test_sweeps import sweep_to_test_channels
+from elastokin.mbs.design import build_model
 from elastokin.physics.laws import DirectionLaw
-from elastokin.rig.load_cases import Sweep, run_load_cases, static_equilibrium
+from elastokin.rig.channels import TEST_CHANNELS
+from elastokin.rig.load_cases import run_load_cases, static_equilibrium
+from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
 
 #: tabulation of a progressive law: points per side, out to this many progression lengths
@@ -89,35 +99,26 @@ def _seed(suspension: Suspension, seed: int | None) -> int:
     return (suspension.measurements.synthetic or SyntheticSpec()).seed
 
 
-def real_suspension_model(suspension: Suspension, seed: int | None = None):
-    """The Exudyn model of the synthetic real suspension (see the module docstring); ``seed``
-    (default ``kc_test.synthetic.seed``, else ``measurements.synthetic.seed``) draws the
-    as-built clearance shifts exactly as ``elastokin synthesize`` does."""
-    from elastokin.mbs.model import ModelOptions, SuspensionModel
-
+def real_suspension_variant(suspension: Suspension, seed: int | None = None) -> ModelVariant:
+    """The synthetic real suspension as a model variant (see the module docstring): the
+    as-built suspension with the real bushing laws, the preloads that keep the as-built
+    static state, ball-joint friction. ``seed`` (default ``kc_test.synthetic.seed``, else
+    ``measurements.synthetic.seed``) draws the as-built clearance shifts exactly as
+    ``elastokin synthesize`` does."""
     s = suspension
     spec = _spec(s)
-    seed = _seed(s, seed)
-    built = as_built(s, clearance_shifts(s, np.random.default_rng(seed)))
-    bushings = []
-    for b in built.suspension.bushings:
-        rb = spec.bushings.get(b.name)
-        if rb is not None:
-            laws = tuple(
-                progressive_law(law.rate_at_zero,
-                                rb.translation_scale if k < 3 else rb.rotation_scale,
-                                rb.progression_mm if k < 3 else rb.progression_deg)
-                for k, law in enumerate(b.laws))
-            b = dataclasses.replace(b, laws=laws)
-        bushings.append(b)
-    real = dataclasses.replace(built.suspension, bushings=tuple(bushings),
-                               source=f"{s.source} (synthetic real suspension)")
+    built = as_built(s, clearance_shifts(s, np.random.default_rng(_seed(s, seed))))
+    laws = {b.name: tuple(progressive_law(law.rate_at_zero,
+                                          rb.translation_scale if k < 3 else rb.rotation_scale,
+                                          rb.progression_mm if k < 3 else rb.progression_deg)
+                          for k, law in enumerate(b.laws))
+            for b in built.suspension.bushings if (rb := spec.bushings.get(b.name))}
+    real = relabelled(with_bushing_laws(built.suspension, laws),
+                      f"{s.source} (synthetic real suspension)")
     # each real bushing carries, at the as-built static equilibrium (what the CMM measured),
     # the as-built bushing's load there: the same state is the real suspension's equilibrium
-    reference = SuspensionModel(built.suspension, ModelOptions(),
-                                bushing_preload=built.bushing_preload,
-                                spring_force_N=built.spring_force_N)
-    settled = static_equilibrium(reference).state
+    design = DesignState(built.spring_force_N, built.bushing_preload)
+    settled = static_equilibrium(build_model(built.suspension, design=design)).state
     as_built_laws = {b.name: b.laws for b in built.suspension.bushings}
     preload = dict(built.bushing_preload)
     for b in real.bushings:
@@ -128,42 +129,19 @@ def real_suspension_model(suspension: Suspension, seed: int | None = None):
             at_static = np.array([law.deflection_at(f) for law, f in
                                   zip(b.laws, settled.bushing_load[b.name])])
             preload[b.name] = np.array([law(u) for law, u in zip(b.laws, at_static - change)])
-    return SuspensionModel(real, ModelOptions(), bushing_preload=preload,
-                           spring_force_N=built.spring_force_N,
-                           joint_friction_Nmm=spec.ball_joint_friction_Nmm,
-                           presliding_deg=spec.presliding_deg, substeps=spec.substeps)
+    friction = BallJointFriction(spec.ball_joint_friction_Nmm, spec.presliding_deg,
+                                 spec.substeps)
+    return ModelVariant("test", real, DesignState(built.spring_force_N, preload), friction)
+
+
+def real_suspension_model(suspension: Suspension, seed: int | None = None):
+    """The Exudyn model of the synthetic real suspension (:func:`real_suspension_variant`)."""
+    return build_model(real_suspension_variant(suspension, seed))
 
 
 def run_real_suspension(suspension: Suspension, seed: int | None = None) -> list[Sweep]:
     """Every load case of the config's rig on the synthetic real suspension."""
     return run_load_cases(real_suspension_model(suspension, seed), "test")
-
-
-def kc_test_channels(sweep: Sweep, suspension: Suspension) -> dict[str, np.ndarray]:
-    """A sweep's columns as K&C test channels (``docs/kc_test_data.md``): the input first,
-    per-wheel signs (lateral outboard +, aligning torque toe-in +), elastokin units."""
-    s = suspension
-    c = sweep.columns
-    lateral_sign = float(s.left @ s.outboard)  # +1 on a left wheel, -1 on a right wheel
-    inputs = {
-        "parallel_travel": ("wheel_travel", c["wheel_travel_mm"]),
-        "vertical_force": ("vertical_force", c.get("vertical_force_N")),
-        "lateral_force": ("lateral_force", lateral_sign * c.get("lateral_force_N", 0.0)),
-        "longitudinal_force_patch": ("longitudinal_force", c.get("longitudinal_force_N")),
-        "longitudinal_force_centre": ("longitudinal_force", c.get("longitudinal_force_N")),
-        # a torque about +up turns a left wheel's front outboard (toe-out): toe-in sense is -up
-        "aligning_torque": ("aligning_torque", -lateral_sign * c.get("aligning_torque_Nmm",
-                                                                       0.0)),
-    }
-    name, values = inputs[sweep.load_case]
-    out = {name: np.asarray(values, float)}
-    if sweep.load_case != "parallel_travel":
-        out["wheel_travel"] = c["wheel_travel_mm"]
-    out["toe"] = c["toe_deg"]
-    out["camber"] = c["camber_deg"]
-    out["wheel_centre_longitudinal"] = c["wheel_centre_longitudinal_mm"]
-    out["wheel_centre_lateral"] = lateral_sign * c["wheel_centre_lateral_mm"]
-    return out
 
 
 def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
@@ -182,12 +160,13 @@ def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
     rng = np.random.default_rng([seed, 1])  # independent of the CMM noise stream
     paths = []
     for sw in sweeps:
-        channels = kc_test_channels(sw, s)
+        channels = sweep_to_test_channels(sw, s)
         rig_input = next(iter(channels))  # the rig's set point: written without noise
         for name, values in channels.items():
             if name == rig_input:
                 continue
-            sd = spec.noise.angle_deg if name in ("toe", "camber") else spec.noise.length_mm
+            sd = (spec.noise.angle_deg if TEST_CHANNELS[name].unit == "deg"
+                  else spec.noise.length_mm)
             if sd > 0:
                 channels[name] = values + rng.normal(scale=sd, size=values.size)
         notes = [

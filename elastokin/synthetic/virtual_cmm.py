@@ -40,7 +40,14 @@ import yaml
 from scipy.spatial.transform import Rotation
 
 from elastokin.config.measurements import check_measurements, hardpoint_name
-from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile, SyntheticSpec
+from elastokin.config.schema import (
+    BushingSpec,
+    LinkSpec,
+    MeasurementsSpec,
+    PartMeasurementSpec,
+    SuspensionFile,
+    SyntheticSpec,
+)
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 from elastokin.formats.cmm import write_points
@@ -181,37 +188,25 @@ def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None)
     return AsBuilt(built, dict(shifts), preload, dict(design.spring_force_N), housing)
 
 
-def synthesize(suspension: Suspension, seed: int | None = None,
-               folder: Path | None = None) -> list[Path]:
-    """Make the as-built suspension and write its virtual CMM files; returns the paths."""
-    from elastokin.mbs.model import ModelOptions, SuspensionModel, design_state
+def _loaded_poses(built: AsBuilt):
+    """The as-built suspension's part poses in its static equilibrium under the design load."""
+    from elastokin.mbs.model import ModelOptions, SuspensionModel
     from elastokin.rig.load_cases import static_equilibrium
 
-    s = suspension
-    m = s.measurements
-    if m is None:
-        raise ConfigError(f"{s.source}: no 'measurements' section: it names the files to write")
-    check_measurements(s, m, "measurements")
-    syn = m.synthetic or SyntheticSpec()
-    seed = syn.seed if seed is None else seed
-    rng = np.random.default_rng(seed)
-    folder = Path(folder) if folder is not None else Path(s.source).parent / m.folder
-    sigma = syn.noise_mm / CHI3_95
-    spec = SuspensionFile.model_validate(s.raw)
-    hp = s.hardpoints
-    design = design_state(s)
-    bushings = {b.name: b for b in s.bushings}
-
-    # ---- as-built: clearance shifts (config frame, design position)
-    shifts = clearance_shifts(s, rng)
-    built = as_built(s, shifts, design)
-    housing = built.housing_mm
     model = SuspensionModel(built.suspension, ModelOptions(), bushing_preload=built.bushing_preload,
                             spring_force_N=built.spring_force_N)
     static_equilibrium(model)
-    poses = model.part_poses()
+    return model.part_poses()
 
-    # ---- features of every part in the design position (config frame), and the truth
+
+def _features_and_truth(s: Suspension, spec: SuspensionFile, poses,
+                        housing: dict[str, np.ndarray], shifts: dict[str, np.ndarray]):
+    """Every part's features in the design position (config frame): ``{part: {"points": {name:
+    x}, "lines": {name.Z / name.X: (2, 3)}}}``, and the true joint locations of the loaded
+    as-built suspension (``poses``), keyed by joint name (links: ``link:hardpoint``)."""
+    m = s.measurements
+    hp = s.hardpoints
+    bushings = {b.name: b for b in s.bushings}
     features: dict[str, dict] = {p: {"points": {}, "lines": {}} for p in m.parts}
     truth: dict[str, np.ndarray] = {}
 
@@ -254,10 +249,49 @@ def synthesize(suspension: Suspension, seed: int | None = None,
             feature(part, hardpoint_name(seat, f"springs.{sname}.seats", s.source), hp[seat])
     wc = hardpoint_name(spec.wheel.centre, "wheel.centre", s.source)
     feature(s.wheel.part, wc, s.wheel.centre_mm, s.wheel.spin_axis)
+    return features, truth
 
-    # ---- marks, part frames, CMM frame, noise
+
+def _write_part_alone(rng: np.random.Generator, folder: Path, ground: str, part: str,
+                      pspec: PartMeasurementSpec, f: dict, marks: np.ndarray, sigma: float,
+                      stamp: str) -> list[Path]:
+    """Write one part measured alone (IGES and CSV): its marks and features ``f`` in its own
+    frame (a random rigid transform of the design position; the ground part in the config
+    frame), with CMM noise. Draws the transform, then the noise of marks, points and lines."""
+    if part == ground:
+        R, t = np.eye(3), np.zeros(3)
+    else:
+        R, t = _random_rotation(rng), rng.uniform(-500, 500, size=3)
+
+    def local(x):  # design-position config frame -> part frame, with noise
+        x = np.asarray(x, float)
+        return (x - t) @ R + rng.normal(scale=sigma, size=x.shape)
+
+    pts = {lb: local(x) for lb, x in zip(pspec.marks, marks)}
+    label = pspec.labels
+    for name, x in f["points"].items():
+        pts[label.get(name, name)] = local(x)
+    lines = {}
+    for name, seg in f["lines"].items():
+        base, suffix = name[:-2], name[-2:]
+        lines[label.get(base, base) + suffix] = local(seg)
+    comment = f"part '{part}' measured alone, in its own frame; mm\n{stamp}"
+    files = []
+    for ext in (".igs", ".csv"):
+        path = folder / Path(pspec.file).with_suffix(ext)
+        write_points(path, pts, lines, comment)
+        files.append(path)
+    return files
+
+
+def _measure_parts(rng: np.random.Generator, s: Suspension, syn: SyntheticSpec, folder: Path,
+                   sigma: float, stamp: str, features: dict[str, dict], poses):
+    """The CMM frame and the part with the gross error, then part by part: its 4 marks, its
+    measured-alone files, and its marks measured on the assembly (CMM frame, noisy, scrambled).
+    Returns the files written, the assembly marks per part, the gross error's record and the
+    CMM frame (R, t)."""
+    m = s.measurements
     files: list[Path] = []
-    folder.mkdir(parents=True, exist_ok=True)
     cmm_R, cmm_t = _random_rotation(rng), rng.uniform(-2000, 2000, size=3)
     gross_part = list(m.parts)[int(rng.integers(len(m.parts)))]
     gross = {}
@@ -265,29 +299,7 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     for part, pspec in m.parts.items():
         f = features[part]
         marks = _marks(rng, [*f["points"].values()], m.eps_mm, part)
-        if part == s.ground:
-            R, t = np.eye(3), np.zeros(3)
-        else:
-            R, t = _random_rotation(rng), rng.uniform(-500, 500, size=3)
-
-        def local(x, R=R, t=t):  # design-position config frame -> part frame, with noise
-            x = np.asarray(x, float)
-            return (x - t) @ R + rng.normal(scale=sigma, size=x.shape)
-
-        pts = {lb: local(x) for lb, x in zip(pspec.marks, marks)}
-        label = pspec.labels
-        for name, x in f["points"].items():
-            pts[label.get(name, name)] = local(x)
-        lines = {}
-        for name, seg in f["lines"].items():
-            base, suffix = name[:-2], name[-2:]
-            lines[label.get(base, base) + suffix] = local(seg)
-        comment = (f"part '{part}' measured alone, in its own frame; mm\n"
-                   f"elastokin synthesize, seed {seed}, config {Path(s.source).name}")
-        for ext in (".igs", ".csv"):
-            path = folder / Path(pspec.file).with_suffix(ext)
-            write_points(path, pts, lines, comment)
-            files.append(path)
+        files += _write_part_alone(rng, folder, s.ground, part, pspec, f, marks, sigma, stamp)
         true_marks = poses.moved(part, marks) @ cmm_R.T + cmm_t
         measured = true_marks + rng.normal(scale=sigma, size=true_marks.shape)
         if part == gross_part:
@@ -298,36 +310,85 @@ def synthesize(suspension: Suspension, seed: int | None = None,
             measured[k] += error
             gross = {"part": part, "mark": pspec.marks[k], "error_mm": _round(error)}
         assembly_points[part] = measured[rng.permutation(4)]
+    return files, assembly_points, gross, (cmm_R, cmm_t)
+
+
+def _write_assembly(folder: Path, m: MeasurementsSpec, assembly_points: dict[str, np.ndarray],
+                    stamp: str) -> list[Path]:
+    """Write the assembled-mark file (IGES and CSV): every part's marks, labelled from the
+    part's ``assembly.marks`` pattern in their scrambled order."""
     pts = {}
     for part, q in assembly_points.items():
         for lb, x in zip(_labels(m.assembly.marks[part], 4, part), q):
             pts[lb] = x
     comment = ("assembled, loaded suspension: every part's marks in the CMM frame, unordered; mm"
-               f"\nelastokin synthesize, seed {seed}, config {Path(s.source).name}")
+               f"\n{stamp}")
+    files = []
     for ext in (".igs", ".csv"):
         path = folder / Path(m.assembly.file).with_suffix(ext)
         write_points(path, pts, {}, comment)
         files.append(path)
+    return files
 
+
+def _write_truth(path: Path, s: Suspension, seed: int, syn: SyntheticSpec, sigma: float,
+                 shifts: dict[str, np.ndarray], gross: dict, cmm: tuple[np.ndarray, np.ndarray],
+                 poses, truth: dict[str, np.ndarray]) -> Path:
+    """Write ``truth.yaml``: the seed and noise, clearance shifts, gross error, CMM frame,
+    loaded as-built part poses and true joint locations."""
+    cmm_R, cmm_t = cmm
+    doc = {
+        "seed": seed,
+        "noise_mm": syn.noise_mm,
+        "noise_sigma_per_coordinate_mm": round(sigma, 9),
+        "clearance_shift_mm": {k: _round(v) for k, v in shifts.items()},
+        "gross_error": gross,
+        "cmm_frame": {"rotation": _round(cmm_R, 9), "translation_mm": _round(cmm_t)},
+        "part_poses": {p: {"rotation": _round(poses.rotation[p], 9),
+                           "translation_mm": _round(poses.transform(p)[:3, 3])}
+                       for p in s.parts},
+        "joints": {k: _round(v) for k, v in truth.items()},
+    }
+    header = ("# Synthetic as-built truth written by `elastokin synthesize` (see "
+              "docs/measurements.md).\n# Units mm; config frame. cmm_frame: x_cmm = R "
+              "x_config + t. part_poses: loaded as-built pose\n# relative to the design "
+              "position (x = R x_design + t). joints: true joint locations, loaded.\n")
+    path.write_text(header + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None,
+                                            width=100))
+    return path
+
+
+def synthesize(suspension: Suspension, seed: int | None = None,
+               folder: Path | None = None) -> list[Path]:
+    """Make the as-built suspension and write its virtual CMM files; returns the paths."""
+    from elastokin.mbs.model import design_state
+
+    s = suspension
+    m = s.measurements
+    if m is None:
+        raise ConfigError(f"{s.source}: no 'measurements' section: it names the files to write")
+    check_measurements(s, m, "measurements")
+    syn = m.synthetic or SyntheticSpec()
+    seed = syn.seed if seed is None else seed
+    rng = np.random.default_rng(seed)
+    folder = Path(folder) if folder is not None else Path(s.source).parent / m.folder
+    sigma = syn.noise_mm / CHI3_95
+    spec = SuspensionFile.model_validate(s.raw)
+    design = design_state(s)
+
+    # ---- as-built: clearance shifts (config frame, design position), loaded equilibrium
+    shifts = clearance_shifts(s, rng)
+    built = as_built(s, shifts, design)
+    poses = _loaded_poses(built)
+    features, truth = _features_and_truth(s, spec, poses, built.housing_mm, shifts)
+
+    # ---- marks, part frames, CMM frame, noise
+    folder.mkdir(parents=True, exist_ok=True)
+    stamp = f"elastokin synthesize, seed {seed}, config {Path(s.source).name}"
+    files, assembly_points, gross, cmm = _measure_parts(rng, s, syn, folder, sigma, stamp,
+                                                        features, poses)
+    files += _write_assembly(folder, m, assembly_points, stamp)
     if m.truth is not None:
-        doc = {
-            "seed": seed,
-            "noise_mm": syn.noise_mm,
-            "noise_sigma_per_coordinate_mm": round(sigma, 9),
-            "clearance_shift_mm": {k: _round(v) for k, v in shifts.items()},
-            "gross_error": gross,
-            "cmm_frame": {"rotation": _round(cmm_R, 9), "translation_mm": _round(cmm_t)},
-            "part_poses": {p: {"rotation": _round(poses.rotation[p], 9),
-                               "translation_mm": _round(poses.transform(p)[:3, 3])}
-                           for p in s.parts},
-            "joints": {k: _round(v) for k, v in truth.items()},
-        }
-        header = ("# Synthetic as-built truth written by `elastokin synthesize` (see "
-                  "docs/measurements.md).\n# Units mm; config frame. cmm_frame: x_cmm = R "
-                  "x_config + t. part_poses: loaded as-built pose\n# relative to the design "
-                  "position (x = R x_design + t). joints: true joint locations, loaded.\n")
-        path = folder / m.truth
-        path.write_text(header + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None,
-                                                width=100))
-        files.append(path)
+        files.append(_write_truth(folder / m.truth, s, seed, syn, sigma, shifts, gross, cmm,
+                                  poses, truth))
     return files

@@ -1,0 +1,106 @@
+"""Model variants as typed overrides of one template :class:`Suspension`.
+
+Every model elastokin builds is a template (a resolved config) plus overrides: hardpoints,
+bushing laws, joint attachments (as-built clearance), which connections are ideal joints
+(kinematic), preloads, ball-joint friction. The override functions return a new frozen
+:class:`Suspension` (nothing is edited in place and no config mapping is validated again);
+:class:`ModelVariant` names a variant with its preloads and friction, ready for
+:func:`elastokin.mbs.design.build_model`.
+
+Units: mm, N, N*mm, deg; config frame.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class DesignState:
+    """Preloads that make the design hardpoints the static equilibrium under the wheel load.
+
+    spring_force_N: compression force of each spring at its installed length.
+    bushing_preload: loads (Fx Fy Fz N, Tx Ty Tz N*mm, bushing frame, +K*u convention) each
+    bushing carries at the design position.
+    """
+
+    spring_force_N: dict[str, float]
+    bushing_preload: dict[str, np.ndarray]
+
+
+@dataclass(frozen=True)
+class BallJointFriction:
+    """Dry friction in spherical joints (synthetic real suspension): breakaway torque (N*mm)
+    per joint, the stick rotation before a joint slips (deg), and the solver steps per rig
+    step that follow the slip."""
+
+    torque_Nmm: Mapping[str, float]
+    presliding_deg: float = 0.05
+    substeps: int = 1
+
+
+@dataclass(frozen=True)
+class ModelVariant:
+    """One model of a study: ``label`` (as in kc.csv and summary.json), the suspension with
+    this variant's overrides applied, its preloads (None: solved for the design position,
+    :func:`elastokin.mbs.design.design_state`) and friction (None: frictionless)."""
+
+    label: str
+    suspension: Suspension
+    preloads: DesignState | None = None
+    friction: BallJointFriction | None = None
+    notes: dict = field(default_factory=dict)
+
+    @property
+    def kinematic(self) -> bool:
+        """True when every bushing is modelled by its ideal joint."""
+        return self.suspension.kinematic
+
+
+def kinematic(suspension: Suspension) -> Suspension:
+    """Every bushing modelled by its ideal joint (``ideal_joint``)."""
+    bushings = tuple(dataclasses.replace(b, kinematic=True) for b in suspension.bushings)
+    return dataclasses.replace(suspension, bushings=bushings, kinematic=True)
+
+
+def compliant(suspension: Suspension) -> Suspension:
+    """Every bushing modelled by its laws (the design preloads are those of this model)."""
+    if not any(b.kinematic for b in suspension.bushings):
+        return suspension
+    bushings = tuple(dataclasses.replace(b, kinematic=False) for b in suspension.bushings)
+    return dataclasses.replace(suspension, bushings=bushings)
+
+
+def with_bushing_laws(suspension: Suspension, laws: Mapping[str, tuple]) -> Suspension:
+    """``suspension`` with the six laws of the named bushings replaced."""
+    names = {b.name for b in suspension.bushings}
+    unknown = sorted(set(laws) - names)
+    if unknown:
+        raise ConfigError(f"{suspension.source}: no bushing {', '.join(unknown)} "
+                          f"(bushings: {', '.join(sorted(names))})")
+    bushings = tuple(dataclasses.replace(b, laws=tuple(laws[b.name])) if b.name in laws else b
+                     for b in suspension.bushings)
+    return dataclasses.replace(suspension, bushings=bushings)
+
+
+def with_joint_shifts(suspension: Suspension,
+                      shifts: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> Suspension:
+    """``suspension`` with the attachments of the named joints moved: per joint, where each
+    part's attachment sits relative to the joint position (mm, config frame; an as-built
+    joint with assembly clearance, which the static solve closes)."""
+    joints = tuple(dataclasses.replace(j, part_shift_mm=tuple(np.asarray(v, float)
+                                                              for v in shifts[j.name]))
+                   if j.name in shifts else j for j in suspension.joints)
+    return dataclasses.replace(suspension, joints=joints)
+
+
+def relabelled(suspension: Suspension, source: str) -> Suspension:
+    """The same suspension under another source name (what error messages call it)."""
+    return dataclasses.replace(suspension, source=source)

@@ -1,0 +1,87 @@
+"""The CMM measurements of a suspension's parts, read from the files its config's
+``measurements`` section names (docs/measurements.md): each part measured alone (4 marks,
+joint centres, axis and radial lines; the part's own frame, mm), the assembled marks (CMM
+frame, unordered) and, for synthetic data, the as-built truth."""
+
+from __future__ import annotations
+
+import fnmatch
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from elastokin.errors import MeasurementError
+from elastokin.formats.cmm import read_points
+
+
+@dataclass
+class PartMeasurement:
+    """One part measured alone (mm, the part's own frame)."""
+
+    part: str
+    source: str
+    marks: np.ndarray  # (4, 3)
+    points: dict[str, np.ndarray]  # hardpoint -> centre
+    axes: dict[str, np.ndarray]  # hardpoint -> unit axis (``<label>.Z`` line)
+    radials: dict[str, np.ndarray]  # hardpoint -> unit radial (``<label>.X`` line)
+
+
+def _unit(seg: np.ndarray) -> np.ndarray:
+    v = seg[1] - seg[0]
+    return v / np.linalg.norm(v)
+
+
+def read_part(part: str, spec, folder: Path) -> PartMeasurement:
+    """Read a part's file; labels -> marks and hardpoints (see ``docs/measurements.md``)."""
+    data = read_points(folder / spec.file)
+    missing = [m for m in spec.marks if m not in data.points]
+    if missing:
+        raise MeasurementError(
+            f"{data.source}: part '{part}': mark(s) {', '.join(missing)} not found (labels in "
+            f"the file: {', '.join(data.order) or 'none'}); a part needs its 4 marks "
+            f"({', '.join(spec.marks)})")
+    to_hardpoint = {label: hp for hp, label in spec.labels.items()}
+    points, axes, radials = {}, {}, {}
+    for label, xyz in data.points.items():
+        if label not in spec.marks:
+            points[to_hardpoint.get(label, label)] = xyz
+    for label, seg in data.lines.items():
+        base, _, kind = label.rpartition(".")
+        target = {"Z": axes, "X": radials}.get(kind.upper())
+        if base and target is not None:
+            target[to_hardpoint.get(base, base)] = _unit(seg)
+    marks = np.array([data.points[m] for m in spec.marks])
+    return PartMeasurement(part, data.source, marks, points, axes, radials)
+
+
+def read_assembly(spec, folder: Path, parts: list[str]) -> tuple[str, dict[str, np.ndarray]]:
+    """The assembled marks of each part (unordered), selected by the label patterns."""
+    data = read_points(folder / spec.file)
+    out: dict[str, list] = {p: [] for p in parts}
+    for label in data.order:
+        owners = [p for p in parts if fnmatch.fnmatchcase(label, spec.marks[p])]
+        if len(owners) > 1:
+            raise MeasurementError(f"{data.source}: mark '{label}' matches the patterns of "
+                                   f"parts {', '.join(owners)}")
+        if owners:
+            out[owners[0]].append(data.points[label])
+    for p, pts in out.items():
+        if len(pts) < 3:
+            raise MeasurementError(
+                f"{data.source}: part '{p}': {len(pts)} assembled mark(s) match the label "
+                f"pattern '{spec.marks[p]}'; at least 3 usable marks are needed for its pose")
+        if len(pts) > 4:
+            raise MeasurementError(f"{data.source}: part '{p}': {len(pts)} assembled marks "
+                                   f"match '{spec.marks[p]}'; a part has 4 marks")
+    return data.source, {p: np.array(v) for p, v in out.items()}
+
+
+def read_truth(path: Path) -> dict[str, np.ndarray]:
+    """The synthetic truth file's true joint locations (mm, config frame, loaded)."""
+    try:
+        data = yaml.safe_load(path.read_text())
+        return {k: np.asarray(v, float) for k, v in data["joints"].items()}
+    except (OSError, yaml.YAMLError, KeyError, TypeError, ValueError) as exc:
+        raise MeasurementError(f"{path}: unreadable truth file ({exc})") from None

@@ -1,0 +1,167 @@
+"""The design position and the assembly check.
+
+:func:`design_state`: spring and bushing preloads that make the design hardpoints the static
+equilibrium under the design wheel load (config ``design``). :func:`check_assembly`: the
+joints neither over- nor under-constrain the suspension. Both hold the wheel's contact patch
+with a support of their own (the model knows no rig). :func:`build_model`: the model of a
+variant with its design preloads. Units mm, N, N*mm; config frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elastokin.config.suspension import Suspension
+from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
+from elastokin.errors import ModelError, SolverError
+from elastokin.mbs.exudyn_api import exu, exudyn_call
+from elastokin.mbs.model import ModelOptions, SuspensionModel
+from elastokin.mbs.solve import simulation_settings, solve_path
+
+#: the support holding the contact patch height (design balancing, assembly check)
+PATCH_SUPPORT = "design:contact_patch"
+HOLD_Z = (0, 0, 1, 0, 0, 0)
+
+
+def hold_contact_patch(model: SuspensionModel) -> str:
+    """A support holding the wheel's contact patch at its design height (x, y free)."""
+    w = model.suspension.wheel
+    return model.add_support(PATCH_SUPPORT, w.part, w.contact_patch_mm, HOLD_Z)
+
+
+def design_state(suspension: Suspension) -> DesignState:
+    """Spring and bushing preloads for the design position (see ``design`` in the config).
+
+    With ``balance_bushing_preloads`` every bushing is held in its ideal joint's directions
+    (translations by exact constraints, rotations by stiff springs), so the design position is
+    a structure whose loads are linear in the balanced spring's force P: two solves give the P
+    at which the contact patch carries the wheel load, a third the loads each bushing
+    transmits at that P, which become the bushing preloads. Otherwise the compliant model is
+    used and P found by the secant method.
+    """
+    s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
+    check_assembly(s)
+    d = s.design
+    springs = {sp.name: sp.design_force_N() for sp in s.springs}
+    preload = {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
+               for b in s.bushings}
+    if d.balance_spring is None and not d.balance_bushing_preloads:
+        return DesignState(springs, preload)
+    ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
+
+    def solve(p: float):
+        forces = dict(springs)
+        if d.balance_spring is not None:
+            forces[d.balance_spring] = p
+        model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
+                                balancing=ideal)
+        support = hold_contact_patch(model)
+        state = solve_path(model, {support: np.zeros((1, 6))},
+                           "balancing the design position")[0]
+        loads = model.balancing_bushing_loads() if ideal else state.bushing_load
+        return float(0.0 + state.support_force_N[support][2]), loads
+
+    if d.balance_spring is None:
+        _, loads = solve(0.0)
+        return DesignState(springs, {n: v.copy() for n, v in loads.items()})
+    p1, loads = _balance_spring(s, solve, ideal)
+    springs[d.balance_spring] = float(p1)
+    if ideal:
+        preload = {n: v.copy() for n, v in loads.items()}
+    return DesignState(springs, preload)
+
+
+def _balance_spring(s: Suspension, solve, ideal: bool):
+    """The balanced spring's preload at which the contact patch carries the wheel load
+    (secant method; exact in one step when the structure is linear in it)."""
+    d = s.design
+    w = d.wheel_load_N
+    p0, p1 = 0.0, w
+    r0, _ = solve(p0)
+    r1, loads = solve(p1)
+    for _ in range(1 if ideal else 20):
+        if abs(r1 - r0) < 1e-9:
+            raise ModelError(f"{s.source}: design.balance_spring: the force of spring "
+                             f"'{d.balance_spring}' does not reach the wheel: cannot balance")
+        p2 = p1 + (w - r1) * (p1 - p0) / (r1 - r0)
+        p0, r0 = p1, r1
+        p1 = p2
+        r1, loads = solve(p1)
+        if abs(r1 - w) < 1e-6 * w:
+            break
+    else:
+        raise SolverError(f"{s.source}: design.balance_spring: no spring preload found that "
+                          f"carries the {w:g} N wheel load (last pad load {r1:.6g} N)")
+    return p1, loads
+
+
+def degrees_of_freedom(model: SuspensionModel, support: str, held: bool) -> dict:
+    """Exudyn's numerical DOF count of the constraints, with or without ``support``."""
+    mbs = model.mbs
+    obj = model.supports[support]["object"]
+    mbs.SetObjectParameter(obj, "activeConnector", held)
+    mbs.Assemble()
+    try:
+        return exudyn_call(lambda: mbs.ComputeSystemDegreeOfFreedom(verbose=0),
+                           "counting degrees of freedom")
+    finally:
+        mbs.SetObjectParameter(obj, "activeConnector", False)
+        mbs.Assemble()
+
+
+def check_assembly(suspension: Suspension) -> None:
+    """Raise :class:`ModelError` when the ideal joints (every bushing counted as its ideal
+    joint) are redundant (over-constrained) or, with the contact patch height held, leave the
+    wheel free to move (under-constrained: e.g. a missing tie rod or joint)."""
+    model = SuspensionModel(kinematic(suspension), ModelOptions())
+    support = hold_contact_patch(model)
+    src = suspension.source
+    redundant = int(degrees_of_freedom(model, support, False)["redundantConstraints"])
+    if redundant > 0:
+        raise ModelError(
+            f"{src}: the assembly is over-constrained: {redundant} redundant constraint "
+            "equation(s) among the joints (in the kinematic model each bushing counts as "
+            "its ideal_joint); remove a joint or free one of its axes")
+    if degrees_of_freedom(model, support, True)["redundantConstraints"] > 0:
+        raise ModelError(
+            f"{src}: the joints hold the wheel part '{suspension.wheel.part}' rigidly "
+            "(bushings counted as their ideal_joint): it cannot travel vertically")
+    _check_wheel_located(model, support)
+
+
+def _check_wheel_located(model: SuspensionModel, support: str) -> None:
+    mbs, src = model.mbs, model.suspension.source
+    obj = model.supports[support]["object"]
+    mbs.SetObjectParameter(obj, "activeConnector", True)
+    mbs.Assemble()
+    try:
+        solver = exu.MainSolverStatic()
+        ss = simulation_settings(model, 1)
+        exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
+        exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{src}: assembly check")
+        jac = np.asarray(solver.GetSystemJacobian())
+    finally:
+        mbs.SetObjectParameter(obj, "activeConnector", False)
+        mbs.Assemble()
+    n2 = mbs.systemData.ODE2Size()
+    cq = jac[n2:, :n2]
+    _, sv, vt = np.linalg.svd(cq)
+    rank = int(np.sum(sv > 1e-9 * sv[0]))
+    null = vt[rank:].T  # free motions of the joints' skeleton (incl. idle spins)
+    wheel = model.wheel_part
+    i0 = mbs.GetNodeODE2Index(model.node[wheel])
+    if null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6:
+        raise ModelError(
+            f"{src}: the assembly is under-constrained: with bushings replaced by their "
+            f"ideal joints and the contact patch held, the wheel part '{wheel}' can still "
+            "move; a joint, link or the steering (tie rod / rack) is missing")
+
+
+def build_model(variant: ModelVariant | Suspension, options: ModelOptions = ModelOptions(),
+                design: DesignState | None = None) -> SuspensionModel:
+    """The model of a variant (or a plain suspension) with its design preloads (computed,
+    after the assembly check, when neither the variant nor ``design`` gives them)."""
+    if isinstance(variant, Suspension):
+        variant = ModelVariant("model", variant)
+    preloads = design or variant.preloads or design_state(variant.suspension)
+    return SuspensionModel(variant.suspension, options, preloads, variant.friction)

@@ -1,0 +1,241 @@
+"""Quasi-static solves of a :class:`~elastokin.mbs.model.SuspensionModel` along the paths of
+its attachments (supports and loads), from the design position.
+
+Static "time" runs 0..1 over the steps; each attachment's path is a piecewise-linear function
+of it (a constant, or a symbolic user function at C++ speed). One ``SolveStatic`` covers every
+step (sensors record each in C++), or one per step for a model with ball-joint friction, whose
+anchors slip between steps. Units mm, N, N*mm; config frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
+
+from elastokin.errors import ModelError, SolverError
+from elastokin.mbs import friction
+from elastokin.mbs.exudyn_api import exu, exudyn_call
+from elastokin.mbs.model import ABSOLUTE_TOLERANCE, DEG, SuspensionModel
+from elastokin.mbs.user_functions import make_path_function
+from elastokin.physics.states import ModelState, PartPoses
+
+
+def simulation_settings(model: SuspensionModel, steps: int):
+    """Exudyn's static-solver settings from the config's ``solver`` section."""
+    sv = model.suspension.solver
+    ss = exu.SimulationSettings()
+    ss.solution.file.write = False
+    ss.solution.sensors.active = True  # internal storage only: every sensor has no file
+    ss.solution.sensors.writePeriod = 0.0
+    st = ss.staticSolver
+    st.numberOfLoadSteps = steps
+    st.useLoadFactor = False  # loads follow their user functions of t, not a load factor
+    st.adaptiveStep = sv.adaptive_step
+    st.verboseMode = 0
+    st.stepInformation = 0
+    st.newton.useModifiedNewton = sv.modified_newton
+    st.newton.relativeTolerance = sv.newton_tolerance
+    st.newton.absoluteTolerance = ABSOLUTE_TOLERANCE
+    st.newton.maxIterations = sv.max_newton_iterations
+    ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
+    return ss
+
+
+def set_path(model: SuspensionModel, kind: str, item: int, ts: np.ndarray,
+             values: np.ndarray) -> None:
+    """Make an input follow the piecewise-linear path ``values`` (n+1, k) over load time
+    ``ts``: a constant when it is constant, otherwise a user function of t (``kind``:
+    "offset" of a support's generic joint, or "load")."""
+    mbs = model.mbs
+    set_param = mbs.SetObjectParameter if kind == "offset" else mbs.SetLoadParameter
+    uf_name = "offsetUserFunction" if kind == "offset" else "loadVectorUserFunction"
+    const = np.allclose(values, values[0], rtol=0.0, atol=0.0)
+    if const and kind != "offset":
+        set_param(item, uf_name, 0)
+        set_param(item, "loadVector", values[0].tolist())
+        return
+    symbolic = model.options.user_functions == "symbolic"
+    fn = make_path_function(ts, values, kind, symbolic=symbolic)
+    if symbolic:
+        fn = CreateSymbolicUserFunction(mbs, fn, uf_name, item)
+        model.keep_alive.append(fn)
+    set_param(item, uf_name, fn)
+
+
+def _refined(model, inputs, steps: int, substeps: int) -> dict[str, np.ndarray]:
+    """Every path subdivided linearly into ``substeps`` steps per step; loads start at their
+    first value, supports at offset 0 (the design position)."""
+    out = {}
+    for name, v in inputs.items():
+        start = np.zeros((1, v.shape[1])) if name in model.supports else v[:1]
+        path = np.vstack([start, v])
+        s = np.linspace(0.0, steps, steps * substeps + 1)
+        out[name] = np.array([np.interp(s, np.arange(steps + 1), c) for c in path.T]).T[1:]
+    return out
+
+
+def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: str,
+               settle: Mapping[str, np.ndarray] | None = None, solve_per_step: bool = False,
+               substeps: int | None = None) -> list[ModelState]:
+    """Solve a sequence of quasi-static steps from the design position.
+
+    inputs: attachment name -> its values per step: a support's offset (n, 6) (mm, rad; the
+        support is active in this solve), a load's vector (n, 3) (N or N*mm). Loads without
+        values are zero, supports without values inactive.
+    settle: with ball-joint friction, the rig starts from the settled suspension: a first
+        step with the supports at offset 0 and these load values (others zero), friction
+        released, then every ball joint at rest there; that step is not returned.
+    solve_per_step: one ``SolveStatic`` per step (the slow, straightforward way, kept for
+        benchmarks); a model with friction always solves per step.
+    substeps: solver steps per returned step (default: the model's, from its friction spec).
+    Raises :class:`SolverError` naming the step that did not converge.
+    """
+    inputs = {k: np.atleast_2d(np.asarray(v, float)) for k, v in inputs.items()}
+    unknown = sorted(set(inputs) - set(model.supports) - set(model.loads))
+    if unknown or not inputs:
+        raise ModelError(f"solve_path: give values for attachments of the model (unknown: "
+                         f"{', '.join(unknown) or 'none given'})")
+    n = len(next(iter(inputs.values())))
+    substeps = model.substeps if substeps is None else int(substeps)
+    if substeps > 1:
+        states = solve_path(model, _refined(model, inputs, n, substeps), what, settle,
+                            solve_per_step, substeps=1)
+        return states[substeps - 1::substeps]
+    settling = bool(model.friction)
+    if settling:
+        solve_per_step = True
+        friction.reset(model)
+        first = {name: (np.zeros((1, v.shape[1])) if name in model.supports else
+                        np.asarray((settle or {}).get(name, np.zeros(v.shape[1])),
+                                   float).reshape(1, -1)) for name, v in inputs.items()}
+        inputs = {name: np.vstack([first[name], v]) for name, v in inputs.items()}
+        n += 1
+    ts = np.linspace(0.0, 1.0, n + 1)
+    applied = _set_paths(model, inputs, ts, n)
+    rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
+    states = [_state(model, row, {k: v[i] for k, v in applied.items()})
+              for i, row in enumerate(rows)]
+    return states[1:] if settling else states
+
+
+def _set_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
+    """Every attachment's path over ``ts``: every path starts from the design state at t = 0
+    (support offset 0, loads at the first step's value). Returns the loads' values per step."""
+    model.keep_alive.clear()
+    applied = {}
+    for name, e in model.loads.items():
+        v = inputs.get(name, np.zeros((n, 3)))
+        set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
+        applied[name] = v
+    for name, e in model.supports.items():
+        active = name in inputs
+        if active:
+            set_path(model, "offset", e["object"], ts, np.vstack([np.zeros((1, 6)),
+                                                                  inputs[name]]))
+        model.mbs.SetObjectParameter(e["object"], "activeConnector", active)
+    return applied
+
+
+def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
+                 solve_per_step: bool, settling: bool) -> list[dict]:
+    mbs = model.mbs
+    initial = exu.ConfigurationType.Initial
+    q0 = mbs.systemData.GetODE2Coordinates(initial)
+    mbs.systemData.SetODE2Coordinates(q0, exu.ConfigurationType.Current)
+    mbs.Assemble()
+    ss = simulation_settings(model, n)
+    label = f"{model.suspension.source}: {what}"
+
+    def solve() -> tuple[bool, str]:
+        try:
+            return exudyn_call(lambda: mbs.SolveStatic(ss), label) is not False, ""
+        except SolverError as exc:
+            return False, f" (Exudyn: {str(exc).removeprefix(label + ': ')})"
+
+    if not solve_per_step:
+        ok, detail = solve()
+        rows = recorded(model, ts)
+    else:
+        ss.staticSolver.numberOfLoadSteps = 1
+        ss.staticSolver.loadStepDuration = 1.0 / n
+        rows, ok, detail = [], True, ""
+        try:
+            for k in range(n):
+                ss.staticSolver.loadStepStart = ts[k]
+                ok, detail = _solve_one_step(model, solve, settling and k == 0)
+                if not ok:
+                    break
+                rows.append(recorded(model, ts[k:k + 2])[-1])
+                mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
+                                                  initial)
+        finally:
+            mbs.systemData.SetODE2Coordinates(q0, initial)
+    if not ok or len(rows) < n:
+        sv = model.suspension.solver
+        raise SolverError(
+            f"{label}: static solve did not converge after step {len(rows)} of {n} "
+            f"(Newton tolerance {sv.newton_tolerance:g}, at most {sv.max_newton_iterations} "
+            f"iterations){detail}; check the geometry and the loads, or the solver settings")
+    return rows
+
+
+def _solve_one_step(model: SuspensionModel, solve, settle: bool) -> tuple[bool, str]:
+    if settle:  # friction released, then at rest where it settled
+        friction.set_active(model, False)
+        ok, detail = solve()
+        friction.set_active(model, True)
+        if ok:
+            friction.at_rest(model)
+        return ok, detail
+    for _ in range(friction.FRICTION_ITERATIONS):
+        ok, detail = solve()
+        # friction: re-solve the step until no anchor has to slip further
+        if not ok or not model.friction or friction.slip(model) < friction.FRICTION_TOLERANCE:
+            return ok, detail
+    return False, (f" (ball-joint friction: anchors still slipping after "
+                   f"{friction.FRICTION_ITERATIONS} re-solves)")
+
+
+def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarray]]:
+    """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive sub-steps
+    skipped), one dict of arrays per step."""
+    data = {k: np.asarray(model.mbs.GetSensorStoredData(v)) for k, v in model.sensors.items()}
+    t = data[f"part:{model.wheel_part}:R"][:, 0]
+    rows = []
+    for tk in ts[1:]:
+        hit = np.flatnonzero(np.abs(t - tk) < 1e-9)
+        if hit.size == 0:
+            break
+        rows.append(hit[-1])
+    idx = np.asarray(rows, int)
+    for name in model.bushings:  # bushing deflection: mm and deg in one 6-vector
+        data[f"bushing:{name}:u"] = np.concatenate(
+            [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / DEG],
+            axis=1)
+        data[f"bushing:{name}:load"] = np.concatenate(
+            [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
+            axis=1)
+    picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
+              for k, v in data.items()}
+    return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
+
+
+def _state(model: SuspensionModel, row: dict[str, np.ndarray],
+           applied: dict[str, np.ndarray]) -> ModelState:
+    springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
+    defl, load = {}, {}
+    for name, e in model.bushings.items():
+        u = row[f"bushing:{name}:u"]
+        if e.get("ideal") is None:
+            u = u + model.initial_deflection[name]
+            f = row[f"bushing:{name}:load"]
+        else:
+            f = np.full(6, np.nan)
+        defl[name], load[name] = u, f
+    poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
+                      {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
+    supports = {n: row[f"support:{n}"] for n in model.supports}
+    points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
+    return ModelState(poses, springs, defl, load, supports, applied, points)

@@ -1,0 +1,124 @@
+"""Console tables: what ``elastokin kc``, ``identify`` and ``doe`` print (plain text, units in
+the headers)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+
+def kc_table(summary: dict, out_dir: Path) -> str:
+    """The K&C run's summary: provenance, static bushing table, characteristics, errors and
+    the fitted stiffness."""
+    lines = [f"elastokin {summary['elastokin_version']} (exudyn {summary['exudyn_version']}), "
+             f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}"
+             + (f", rig {summary['rig_file']}" if summary.get("rig_file") else ""), ""]
+    st = summary["static"]
+    residual = st["wheel_assembly_force_residual_N"]
+    lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
+                 f"(force residual on the wheel assembly {residual:.1e} N)")
+    lines.append(f"  {'bushing':<10}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
+                 f"   reference {st['reference_source']}")
+    for name, b in st["bushings"].items():
+        ref = b.get("reference", {})
+        ref_txt = ", ".join(f"{k} {v:g}" for k, v in ref.items())
+        lines.append(f"  {name:<10}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
+                     f"{b['torsion_deg']:>13.4f}   {ref_txt}")
+    lines.append("")
+    def num(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    errors = summary.get("errors", {})
+    head = f"  {'model':<22}{'steer amplitude deg':>21}{'bump steer deg/m':>18}"
+    if errors:
+        head += f"{'RMS error: steer/travel deg':>29}{'steer/lateral deg':>19}" \
+                f"{'long. disp. mm':>16}"
+    lines.append(head)
+    for label, m in summary["models"].items():
+        row = f"  {label:<22}{num(m['steer_amplitude_deg'], '.4f'):>21}" \
+              f"{num(m['bump_steer_deg_per_m'], '.3f'):>18}"
+        e = errors.get(label)
+        if e:
+            row += f"{num(e['steer_vs_travel_rms_deg'], '.4f'):>29}" \
+                   f"{num(e['steer_vs_lateral_force_rms_deg'], '.4f'):>19}" \
+                   f"{num(e['longitudinal_displacement_rms_mm'], '.3f'):>16}"
+        lines.append(row)
+    refs = summary["reference"]["steer_amplitude_deg"]
+    if refs:
+        lines.append("  reference steer amplitude (deg): "
+                     + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
+    lines += [f"  warning: {w}" for w in summary.get("warnings", [])]
+    fit = summary.get("stiffness_identification")
+    if fit:
+        lines += ["", "Bushing stiffness fitted to the test (model identified_stiffness; "
+                  f"details in {fit['file']}):"]
+        for key, v in fit["parameters"].items():
+            state = "" if v["determined"] else "  not determined"
+            lines.append(f"  {key:<26}{v['value']:>10.4g} {v['unit']:<8} 95 % "
+                         f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]{state}")
+    lines.append("")
+    lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
+    return "\n".join(lines)
+
+
+def identification_table(ident) -> str:
+    """A readable summary of an identification (plain text)."""
+    d = ident.to_json()
+    out = [f"Geometric identification of {ident.suspension.name}",
+           f"  config {ident.suspension.source}; units mm, deg; config frame", "",
+           "Part poses from the assembled marks [8-12]",
+           f"  {'part':<12}{'residual RMS mm':>16}  dropped mark"]
+    marks = ident.suspension.measurements.parts
+    for p, v in d["parts"].items():
+        dropped = "-" if v["dropped_mark"] is None else marks[p].marks[v["dropped_mark"]]
+        out.append(f"  {p:<12}{v['residual_rms_mm']:>16.4f}  {dropped}")
+    out += ["", "Joints (loaded state): identified - initial shift, and error against the "
+            "synthetic truth when known",
+            f"  {'joint':<12}{'kind':<11}{'shift x':>9}{'y':>8}{'z':>8}{'|shift|':>9}"
+            f"{'dL_max':>8}{'error':>8}"]
+    for n, j in d["joints"].items():
+        sx, sy, sz = j["shift_mm"]
+        dl = "" if j["max_shift_mm"] is None else f"{j['max_shift_mm']:.2f}"
+        err = "" if j["error_vs_truth_mm"] is None else f"{j['error_vs_truth_mm']:.3f}"
+        out.append(f"  {n:<12}{j['kind']:<11}{sx:>9.3f}{sy:>8.3f}{sz:>8.3f}"
+                   f"{math.hypot(sx, sy, sz):>9.3f}{dl:>8}{err:>8}")
+    out += ["", "Bushing deflections at static equilibrium [22-23] (part 2 rel. part 1, "
+            "bushing frame)",
+            f"  {'bushing':<10}{'radial mm':>10}{'axial mm':>10}{'torsion deg':>12}"
+            f"   B* z-x-z Euler deg [20-21]"]
+    for n, j in d["joints"].items():
+        if j["deflection_mm_deg"] is not None:
+            u = j["deflection_mm_deg"]
+            e = ", ".join(f"{a:.2f}" for a in j["euler_zxz_deg"])
+            out.append(f"  {n:<10}{math.hypot(u[0], u[1]):>10.3f}{u[2]:>10.3f}{u[5]:>12.4f}"
+                       f"   ({e})")
+    out += ["", f"Verification [7]: at the identified model's static equilibrium the joints "
+            f"are within {d['verification_max_deviation_mm']:.2e} mm of their measured "
+            "locations"]
+    if d["warnings"]:
+        out += ["", "Warnings:"] + [f"  - {w}" for w in d["warnings"]]
+    return "\n".join(out) + "\n"
+
+
+def doe_table(doc: dict, out_dir: Path) -> str:
+    """A DOE study's characteristics (nominal, mean, std, p05, p95) and sensitivity."""
+    s = doc["steer_amplitude_deg"]
+    lines = [f"DOE of {doc['config_file']}: {doc['samples']} samples ({doc['method']}, seed "
+             f"{doc['seed']}, load cases {doc['load_cases']}), {doc['failed']} failed", ""]
+    lines.append(f"  {'characteristic':<46}{'nominal':>10}{'mean':>10}{'std':>10}"
+                 f"{'p05':>10}{'p95':>10}")
+    nominal = doc.get("nominal") or {}
+
+    def num(x):
+        return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
+
+    for name, st in doc["characteristics"].items():
+        lines.append(f"  {name:<46}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
+                     f"{num(st['p05'])}{num(st['p95'])}")
+    sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
+    if sens and s["n"]:
+        ranked = sorted(sens, key=lambda k: -sens[k])
+        lines += ["", f"  steer-amplitude sensitivity ({doc['sensitivity_method']}): "
+                  + ", ".join(f"{k} {sens[k]:.2f}" for k in ranked)]
+    lines += ["", f"Results in {out_dir}/: " + ", ".join(doc["files"])]
+    return "\n".join(lines)

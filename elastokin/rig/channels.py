@@ -1,0 +1,309 @@
+"""The one channel table: every quantity a K&C run records or reports, with its unit, sign
+convention, axis label, K&C test-file column and ADAMS/Car request name; the load cases with
+their input channel; the summary characteristics (gradients over load cases) and the errors
+against test data. kc.csv, summary.json, the charts, the report, the K&C test reader and
+writer, the ADAMS export, the stiffness fit and the DOE all read these tables.
+
+Units: mm, N, N*mm, deg (the unit is the column name's suffix). Signs: ISO 8855 / SAE J670
+names in the config frame for forces and displacements (+ forward, + to the vehicle's left,
++ up), per wheel for the wheel angles (toe-in +, camber top outboard +). K&C test files are
+per wheel (lateral + outboard, aligning torque + in the toe-in sense): ``test_sign`` says how a
+test channel converts (``lateral``: times +1 on a left wheel, -1 on a right one;
+``toe_in_torque``: times -1 on a left wheel, +1 on a right one).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+#: the quantity of each unit (K&C test files accept other units of the same quantity)
+QUANTITY = {"mm": "length", "deg": "angle", "N": "force", "N*mm": "torque"}
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One recorded quantity: ``name`` is the kc.csv column (unit suffix included)."""
+
+    name: str
+    unit: str
+    sign: str  # sign convention (summary.json ``sign_conventions``, docs)
+    label: str  # axis label of a chart, unit and sign included
+    test: str | None = None  # K&C test-file channel (docs/kc_test_data.md)
+    test_meaning: str = ""  # the test channel's per-wheel meaning and sign
+    test_sign: str = ""  # "", "lateral" or "toe_in_torque" (module docstring)
+    adams: str | None = None  # ADAMS-style channel name (export-adams --kc)
+    adams_frame: str | None = None  # config-frame component converted to the ADAMS/Car frame
+    fitted: bool = False  # compared with the test by the stiffness fit (when not the input)
+
+    @property
+    def quantity(self) -> str:
+        return QUANTITY.get(self.unit, "")
+
+
+CHANNEL_LIST = (
+    Channel("pad_z_mm", "mm", "prescribed vertical displacement of the contact patch (rig "
+            "input), + up", "pad height [mm] (+ up)", adams="pad_vertical_displacement"),
+    Channel("toe_deg", "deg", "toe angle, positive toe-in (ISO 8855 / SAE J670); 'steer' in "
+            "the paper", "toe [deg] (+ toe-in)", test="toe", test_meaning="toe angle, toe-in +",
+            adams="toe_angle", fitted=True),
+    Channel("camber_deg", "deg", "camber angle, positive top of the wheel leaning outboard",
+            "camber [deg] (+ top outboard)", test="camber",
+            test_meaning="camber angle, top of the wheel outboard +", adams="camber_angle",
+            fitted=True),
+    Channel("wheel_centre_longitudinal_mm", "mm", "wheel-centre displacement from the design "
+            "position, + forward", "wheel-centre longitudinal displacement [mm] (+ forward)",
+            test="wheel_centre_longitudinal", test_meaning="wheel-centre displacement from "
+            "the design position, forward +", adams="wheel_travel_base", fitted=True),
+    Channel("wheel_centre_lateral_mm", "mm", "wheel-centre displacement from the design "
+            "position, + to the vehicle's left",
+            "wheel-centre lateral displacement [mm] (+ left)", test="wheel_centre_lateral",
+            test_meaning="wheel-centre displacement from the design position, outboard +",
+            test_sign="lateral", adams="wheel_travel_track", fitted=True),
+    Channel("wheel_travel_mm", "mm", "wheel-centre vertical displacement from the design "
+            "position, + bump", "wheel travel [mm] (+ bump)", test="wheel_travel",
+            test_meaning="wheel-centre vertical displacement from the design position, bump +",
+            adams="wheel_travel", fitted=True),
+    *(Channel(f"wheel_centre_{a}_mm", "mm", "wheel-centre coordinate, config frame",
+              f"wheel-centre {a} [mm] (config frame)", adams=f"wheel_center_{a}",
+              adams_frame=a) for a in "xyz"),
+    Channel("caster_deg", "deg", "steering-axis inclination from the vertical in side view, "
+            "+ top rearward (docs/characteristics.md)", "caster [deg] (+ top rearward)",
+            test="caster", test_meaning="caster angle, steering axis top rearward +",
+            adams="caster_angle"),
+    Channel("kingpin_inclination_deg", "deg", "steering-axis inclination from the vertical in "
+            "front view, + top inboard", "kingpin inclination [deg] (+ top inboard)",
+            test="kingpin_inclination",
+            test_meaning="kingpin inclination, steering axis top inboard +",
+            adams="kingpin_incl_angle"),
+    Channel("scrub_radius_mm", "mm", "ground-plane offset of the steering axis from the "
+            "contact point normal to the wheel/ground line, + axis inboard",
+            "scrub radius [mm] (+ axis inboard)", test="scrub_radius",
+            test_meaning="scrub radius, axis meets the ground inboard +", adams="scrub_radius"),
+    Channel("caster_trail_mm", "mm", "ground-plane offset of the steering axis from the "
+            "contact point along the wheel/ground line, + axis ahead",
+            "caster trail [mm] (+ axis ahead)", test="caster_trail",
+            test_meaning="caster trail, axis meets the ground ahead +",
+            adams="caster_moment_arm"),
+    Channel("track_change_mm", "mm", "contact-point lateral displacement, + outboard (K&C test "
+            "files only: not computed by the rig yet)", "track change [mm] (+ outboard)",
+            test="track_change", test_meaning="contact-point lateral displacement, outboard +"),
+    *(Channel(f"contact_patch_f{a}_N", "N", "force the rig applies to the tyre at the contact "
+              "patch, config frame", f"contact-patch force {a} [N] (config frame)",
+              adams=f"tire_force_{a}", adams_frame=a) for a in "xyz"),
+    Channel("vertical_force_N", "N", "vertical force the rig applies to the tyre, + up",
+            "vertical force at the contact patch [N]", test="vertical_force",
+            test_meaning="force the rig applies to the wheel, up +", adams="vertical_force"),
+    Channel("lateral_force_N", "N", "lateral force the rig applies to the tyre, + to the "
+            "vehicle's left", "lateral force at the contact patch [N] (+ to the vehicle's "
+            "left)", test="lateral_force", test_meaning="force the rig applies to the wheel, "
+            "outboard +", test_sign="lateral", adams="lateral_force"),
+    Channel("longitudinal_force_N", "N", "longitudinal force the rig applies to the tyre, "
+            "+ forward (braking -)", "longitudinal force [N] (+ forward)",
+            test="longitudinal_force", test_meaning="force the rig applies to the wheel, "
+            "forward +", adams="longitudinal_force"),
+    Channel("aligning_torque_Nmm", "N*mm", "torque the rig applies to the tyre about the "
+            "upward axis, + about up", "aligning torque [N*mm] (+ about the vertical axis, "
+            "up)", test="aligning_torque", test_meaning="moment about the vertical the rig "
+            "applies to the wheel, toe-in sense +", test_sign="toe_in_torque",
+            adams="aligning_torque"),
+)
+#: channels by kc.csv name
+CHANNELS: dict[str, Channel] = {c.name: c for c in CHANNEL_LIST}
+#: the channels the stiffness fit compares with the test, in residual order
+FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
+#: channels by K&C test-file name
+TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
+
+_SPRING = re.compile(r"spring_(.+)_force_N")
+_BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
+
+
+def channel(name: str) -> Channel | None:
+    """The channel of a kc.csv column, spring and bushing columns included (None when the
+    column is not elastokin's)."""
+    if name in CHANNELS:
+        return CHANNELS[name]
+    m = _SPRING.fullmatch(name)
+    if m:
+        return Channel(name, "N", "coil spring force, positive in compression",
+                       f"spring {m.group(1)} force [N] (+ compression)",
+                       adams=f"{m.group(1)}_spring_force")
+    m = _BUSHING.fullmatch(name)
+    if m:
+        kind = "rot" if m.group(2) else "disp"
+        return Channel(name, m.group(4), "deflection of the part-2 sleeve relative to part 1, "
+                       "bushing frame (z axial, x main radial), incl. the preload deflection; "
+                       "rotations Tait-Bryan x-y-z",
+                       f"bushing {m.group(1)} {m.group(2)}{m.group(3)} [{m.group(4)}]",
+                       adams=f"bushing_{m.group(1)}_{kind}_{m.group(3)}")
+    return None
+
+
+def bushing_columns(bushing: str) -> list[str]:
+    """kc.csv columns of a bushing's deflection: x y z (mm), rx ry rz (deg)."""
+    units = ("mm", "mm", "mm", "deg", "deg", "deg")
+    return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
+                                                        units)]
+
+
+def spring_column(spring: str) -> str:
+    return f"spring_{spring}_force_N"
+
+
+@dataclass(frozen=True)
+class LoadCase:
+    """A load case of the rig: its input channel (kc.csv), where a force acts (``patch``,
+    ``centre``, ``torque`` at the centre; None: the pad moves or carries the wheel load) and
+    along which vehicle axis, the input's chart label, the test file's required channels."""
+
+    name: str
+    input: str
+    label: str
+    meaning: str
+    test_required: tuple[str, ...]
+    where: str | None = None
+    direction: str | None = None
+    vertical: bool = False  # run on kinematic models too
+
+    @property
+    def test_input(self) -> str:
+        return CHANNELS[self.input].test
+
+
+LOAD_CASE_LIST = (
+    LoadCase("parallel_travel", "wheel_travel_mm", "wheel travel [mm] (+ bump)",
+             "both wheels of the axle moved up and down together (displacement control)",
+             ("toe",), vertical=True),
+    LoadCase("vertical_force", "vertical_force_N", "vertical force at the contact patch [N]",
+             "vertical force at the contact patch", ("wheel_travel",), vertical=True),
+    LoadCase("lateral_force", "lateral_force_N",
+             "lateral force at the contact patch [N] (+ to the vehicle's left)",
+             "lateral force at the contact patch", ("toe",), "patch", "left"),
+    LoadCase("longitudinal_force_patch", "longitudinal_force_N",
+             "longitudinal force at the contact patch [N] (+ forward; braking -)",
+             "longitudinal force at the contact patch (braking)",
+             ("wheel_centre_longitudinal",), "patch", "forward"),
+    LoadCase("longitudinal_force_centre", "longitudinal_force_N",
+             "longitudinal force at the wheel centre [N] (+ forward: traction)",
+             "longitudinal force at the wheel centre (traction)",
+             ("wheel_centre_longitudinal",), "centre", "forward"),
+    LoadCase("aligning_torque", "aligning_torque_Nmm",
+             "aligning torque [N*mm] (+ about the vertical axis, up)",
+             "moment about the vertical at the contact patch", ("toe",), "torque", "up"),
+)
+LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
+#: the force-controlled load cases at the design wheel load
+FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
+
+
+@dataclass(frozen=True)
+class Characteristic:
+    """A summary figure of one model (summary.json ``models.<label>``): a least-squares
+    slope ``scale * dy/dx`` of ``y`` against ``x`` over ``load_case`` (within ``window``
+    of x when given), or (no load case) a figure the rig computes itself."""
+
+    name: str
+    label: str
+    unit: str
+    fmt: str
+    definition: str
+    load_case: str | None = None
+    x: str | None = None
+    y: str | None = None
+    scale: float = 1.0
+    window: tuple[float, float] | None = None
+
+
+#: half-width of the travel window over which bump steer is fitted (mm)
+BUMP_STEER_WINDOW_MM = 50.0
+
+CHARACTERISTIC_LIST = (
+    *(Characteristic(c, f"{CHANNELS[c].label.split(' [')[0]} (static)", CHANNELS[c].unit,
+                     ".2f", f"{CHANNELS[c].sign}; at the static state")
+      for c in ("caster_deg", "kingpin_inclination_deg", "scrub_radius_mm",
+                "caster_trail_mm")),
+    Characteristic("steer_amplitude_deg", "steer amplitude over the travel stroke", "deg",
+                   ".4f", "max - min toe over the measured stroke"),
+    Characteristic("bump_steer_deg_per_m", "bump steer (+-50 mm)", "deg/m", ".3f",
+                   "least-squares slope of toe vs wheel travel over +-50 mm",
+                   "parallel_travel", "wheel_travel_mm", "toe_deg", 1000.0,
+                   (-BUMP_STEER_WINDOW_MM, BUMP_STEER_WINDOW_MM)),
+    Characteristic("bump_camber_deg_per_m", "bump camber", "deg/m", ".3f",
+                   "least-squares slope of camber vs wheel travel over the whole sweep",
+                   "parallel_travel", "wheel_travel_mm", "camber_deg", 1000.0),
+    Characteristic("wheel_rate_N_per_mm", "wheel rate", "N/mm", ".2f",
+                   "least-squares slope of vertical force vs wheel travel",
+                   "vertical_force", "wheel_travel_mm", "vertical_force_N"),
+    Characteristic("lateral_compliance_steer_deg_per_kN", "lateral compliance steer",
+                   "deg/kN", ".4f", "toe per lateral force at the contact patch",
+                   "lateral_force", "lateral_force_N", "toe_deg", 1000.0),
+    Characteristic("lateral_compliance_camber_deg_per_kN", "lateral compliance camber",
+                   "deg/kN", ".4f", "camber per lateral force at the contact patch",
+                   "lateral_force", "lateral_force_N", "camber_deg", 1000.0),
+    Characteristic("lateral_compliance_mm_per_kN", "lateral wheel-centre compliance", "mm/kN",
+                   ".3f", "wheel-centre lateral displacement per lateral force",
+                   "lateral_force", "lateral_force_N", "wheel_centre_lateral_mm", 1000.0),
+    Characteristic("longitudinal_compliance_mm_per_kN", "longitudinal compliance (braking)",
+                   "mm/kN", ".3f", "wheel-centre longitudinal displacement per longitudinal "
+                   "force at the contact patch", "longitudinal_force_patch",
+                   "longitudinal_force_N", "wheel_centre_longitudinal_mm", 1000.0),
+    Characteristic("longitudinal_compliance_steer_deg_per_kN", "longitudinal compliance steer",
+                   "deg/kN", ".4f", "toe per longitudinal force at the contact patch",
+                   "longitudinal_force_patch", "longitudinal_force_N", "toe_deg", 1000.0),
+    Characteristic("traction_compliance_mm_per_kN", "traction compliance", "mm/kN", ".3f",
+                   "wheel-centre longitudinal displacement per longitudinal force at the "
+                   "wheel centre", "longitudinal_force_centre", "longitudinal_force_N",
+                   "wheel_centre_longitudinal_mm", 1000.0),
+    Characteristic("traction_compliance_steer_deg_per_kN", "traction compliance steer",
+                   "deg/kN", ".4f", "toe per longitudinal force at the wheel centre",
+                   "longitudinal_force_centre", "longitudinal_force_N", "toe_deg", 1000.0),
+    Characteristic("aligning_torque_compliance_steer_deg_per_kNm",
+                   "aligning-torque compliance steer", "deg/kNm", ".4f",
+                   "toe per aligning torque", "aligning_torque", "aligning_torque_Nmm",
+                   "toe_deg", 1.0e6),
+)
+CHARACTERISTICS: dict[str, Characteristic] = {c.name: c for c in CHARACTERISTIC_LIST}
+#: the characteristics fitted over a whole sweep (summary.json; a window where given)
+GRADIENTS = {c.name: c for c in CHARACTERISTIC_LIST if c.load_case is not None
+             and c.name != "bump_steer_deg_per_m"}
+#: steering-axis columns reported at the static state
+STEERING_AXIS_COLUMNS = ("caster_deg", "kingpin_inclination_deg", "scrub_radius_mm",
+                         "caster_trail_mm")
+
+
+@dataclass(frozen=True)
+class ErrorMetric:
+    """An error of a model against the test (summary.json ``errors``): the RMS of the
+    model's change from its static state minus the test's, branch by branch."""
+
+    name: str
+    label: str
+    unit: str
+    fmt: str
+    load_case: str
+    x: str
+    y: str
+
+
+ERROR_LIST = (
+    ErrorMetric("steer_vs_travel_rms_deg", "steer vs travel (Fig. 9a)", "deg", ".4f",
+                "parallel_travel", "wheel_travel_mm", "toe_deg"),
+    ErrorMetric("steer_vs_lateral_force_rms_deg", "steer vs lateral force (Fig. 9b)", "deg",
+                ".4f", "lateral_force", "lateral_force_N", "toe_deg"),
+    ErrorMetric("longitudinal_displacement_rms_mm",
+                "longitudinal displacement vs force (Fig. 9c)", "mm", ".3f",
+                "longitudinal_force_patch", "longitudinal_force_N",
+                "wheel_centre_longitudinal_mm"),
+)
+ERRORS: dict[str, ErrorMetric] = {e.name: e for e in ERROR_LIST}
+
+
+def sign_conventions() -> dict[str, str]:
+    """The sign convention of every column and figure (summary.json ``sign_conventions``)."""
+    out = {"frame": "the config frame (see its 'frame' key); wheel-centre coordinates in it"}
+    out.update({c.name: c.sign for c in CHANNEL_LIST})
+    out["spring_*_force_N"] = channel("spring_s_force_N").sign
+    out["bushing_*"] = channel("bushing_b_x_mm").sign
+    out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
+    return out

@@ -1,0 +1,116 @@
+"""Per-step columns of a sweep and the summary figures of a model (pure numpy on solved rig
+steps; names, units and definitions in :mod:`elastokin.rig.channels`).
+
+Frames and units: the config frame, mm, N, N*mm, deg. Signs (ISO 8855 / SAE J670 names):
+toe positive toe-in; camber positive top outboard; wheel travel positive bump (wheel-centre z
+relative to the design position); contact-patch forces are the forces the rig pad applies to
+the tyre, config frame (Fz > 0 pushes the wheel up).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elastokin.config.suspension import Suspension
+from elastokin.physics.states import StepState
+from elastokin.physics.wheel import camber_deg, slope, toe_deg
+from elastokin.rig.channels import (
+    CHARACTERISTICS,
+    GRADIENTS,
+    STEERING_AXIS_COLUMNS,
+    bushing_columns,
+    spring_column,
+)
+from elastokin.rig.steering import steering_axis_columns
+from elastokin.rig.sweeps import Sweep, find_sweep, static_row_value
+
+
+def characteristics(states: list[StepState], suspension: Suspension,
+                    design: StepState | None = None) -> dict[str, np.ndarray]:
+    """Per-step columns (kc.csv name -> array) from solved rig steps."""
+    s = suspension
+    centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
+    centre = np.array([st.wheel_centre_mm for st in states])
+    spin = np.array([st.spin_axis for st in states])
+    pad = np.array([st.pad_force_N for st in states])
+    cols = {
+        "wheel_travel_mm": (centre - centre0) @ s.up,
+        "wheel_centre_longitudinal_mm": (centre - centre0) @ s.forward,
+        "wheel_centre_lateral_mm": (centre - centre0) @ s.left,
+        "wheel_centre_x_mm": centre[:, 0],
+        "wheel_centre_y_mm": centre[:, 1],
+        "wheel_centre_z_mm": centre[:, 2],
+        "toe_deg": toe_deg(spin, s.forward, s.outboard),
+        "camber_deg": camber_deg(spin, s.forward, s.outboard, s.up),
+        "contact_patch_fx_N": pad[:, 0],
+        "contact_patch_fy_N": pad[:, 1],
+        "contact_patch_fz_N": pad[:, 2],
+    }
+    if states[0].poses is not None:  # models that record the wheel part only: none
+        cols.update(steering_axis_columns(states, s))
+    for name in states[0].spring_force_N:
+        cols[spring_column(name)] = np.array([st.spring_force_N[name] for st in states])
+    for name in states[0].bushing_deflection:
+        u = np.array([st.bushing_deflection[name] for st in states])
+        for i, col in enumerate(bushing_columns(name)):
+            cols[col] = u[:, i]
+    return cols
+
+
+def steer_amplitude_deg(sweep: Sweep) -> float:
+    """Max - min toe over the measured stroke (deg)."""
+    toe = sweep.stroke("toe_deg")
+    return float(toe.max() - toe.min())
+
+
+def bump_steer_deg_per_m(sweep: Sweep) -> float:
+    """Toe change per wheel travel, least squares over the bump-steer window (deg/m)."""
+    c = CHARACTERISTICS["bump_steer_deg_per_m"]
+    return c.scale * slope(sweep.stroke(c.x), sweep.stroke(c.y), c.window)
+
+
+def summary_figures(sweeps: list[Sweep], kinematic: bool,
+                    compliance: np.ndarray | None = None) -> dict:
+    """The summary figures of one model (None when the load case was not run): steer
+    amplitude, bump steer, the steering axis at the static state (design pad height, design
+    wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` and the
+    compliance matrix."""
+    travel = find_sweep(sweeps, "parallel_travel")
+    has_toe = travel is not None and "toe_deg" in travel.columns
+    out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
+           "bump_steer_deg_per_m": bump_steer_deg_per_m(travel) if has_toe else None,
+           "kinematic": kinematic}
+    for name in STEERING_AXIS_COLUMNS:
+        out[name] = static_row_value(travel, name) if travel is not None else None
+    for name, g in GRADIENTS.items():
+        sw = find_sweep(sweeps, g.load_case)
+        ok = sw is not None and g.x in sw.columns and g.y in sw.columns
+        out[name] = g.scale * slope(sw.columns[g.x], sw.columns[g.y]) if ok else None
+    if compliance is not None:
+        out["compliance_matrix"] = {
+            "rows": "wheel-centre displacement x y z [mm], rotation x y z [deg]",
+            "columns": "force x y z [N], torque x y z [N*mm] at the wheel centre",
+            "frame": "config", "values": compliance.tolist()}
+    return out
+
+
+def bushing_table(state: StepState, suspension: Suspension) -> dict[str, dict[str, float]]:
+    """Each bushing's deflection and load in its own frame (z axial, x main radial), laid out
+    as the reference paper's Table 3: radial = in-plane deflection magnitude, axial = z,
+    torsion = rotation about z, conical = tilt of the axis."""
+    table = {}
+    for b in suspension.bushings:
+        u = state.bushing_deflection[b.name]
+        f = state.bushing_load[b.name]
+        table[b.name] = {
+            "radial_mm": float(np.hypot(u[0], u[1])),
+            "axial_mm": float(u[2]),
+            "torsion_deg": float(u[5]),
+            "conical_deg": float(np.hypot(u[3], u[4])),
+            "deflection_mm_deg": [float(x) for x in u],
+            "radial_force_N": float(np.hypot(f[0], f[1])),
+            "axial_force_N": float(f[2]),
+            "torsion_torque_Nmm": float(f[5]),
+            "load_N_Nmm": [float(x) for x in f],
+        }
+    return table

@@ -1,0 +1,54 @@
+"""A sweep: one load case on one model, as per-step columns (kc.csv names with units, see
+:mod:`elastokin.rig.channels`). Plain data: the test data are sweeps of the model ``test``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Sweep:
+    """One load case on one model: per-step columns (name with unit -> array) in step order.
+
+    ``branch`` labels each step: parallel travel ``approach`` (from the design position to the
+    start of the measured stroke, not used for characteristics), ``stroke`` and ``return``;
+    force sweeps ``rise``, ``fall``, ``return``; vertical force ``approach``, ``rise``, ``fall``.
+    """
+
+    model: str
+    load_case: str
+    columns: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def stroke(self, name: str) -> np.ndarray:
+        return self.columns[name][self.columns["branch"] == "stroke"]
+
+    @property
+    def steps(self) -> int:
+        return len(self.columns["branch"])
+
+
+def find_sweep(sweeps: list[Sweep], load_case: str) -> Sweep | None:
+    """The sweep of ``load_case`` among ``sweeps`` (None when it was not run)."""
+    return next((sw for sw in sweeps if sw.load_case == load_case), None)
+
+
+def static_row_value(sweep: Sweep, name: str) -> float | None:
+    """``name`` at the static state of a parallel-travel sweep: the rig pad at the design
+    height (``pad_z_mm`` = 0) on the measured stroke, interpolated linearly when no step lands
+    on it. With a balanced design (``design.balance_spring``) the pad carries the design
+    wheel load there, i.e. this is the static equilibrium under the design wheel load. None
+    when the column is missing, undefined there (NaN) or 0 is outside the stroke."""
+    if name not in sweep.columns or "pad_z_mm" not in sweep.columns:
+        return None
+    z, y = sweep.stroke("pad_z_mm").astype(float), sweep.stroke(name).astype(float)
+    hit = np.flatnonzero(z == 0.0)
+    if hit.size:
+        value = float(y[hit[0]])
+    else:
+        order = np.argsort(z)
+        if z.size < 2 or not z[order[0]] < 0.0 < z[order[-1]]:
+            return None
+        value = float(np.interp(0.0, z[order], y[order]))
+    return value if np.isfinite(value) else None

@@ -1,0 +1,152 @@
+"""Statistics of a DOE study (docs/doe.md): distributions of every characteristic over the
+samples that solved, and each joint's share of their variance (standardised regression
+coefficients). Units of the characteristics (summary.json names)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+#: what doe.json's numbers mean (written into doe.json as ``definitions``)
+DEFINITIONS = {
+    "sampling": "unit-cube samples (lhs / sobol / mc, from seed) mapped uniformly onto each "
+                "joint's clearance region of radius dL_max: bushing disc normal to the housing "
+                "axis r = R sqrt(u1), phi = 2 pi u2 along the bushing frame's x, y; other "
+                "joints ball r = R u1^(1/3), cos(theta) = 1 - 2 u2, phi = 2 pi u3 in the "
+                "joint frame",
+    "statistics": "over the samples that solved: mean, std (ddof 1), p05 / p95 (linear "
+                  "interpolation), min, max, n",
+    "sensitivity": "sum over a joint's shift components of the squared standardised "
+                   "regression coefficients (linear least squares of the characteristic on "
+                   "all components, method 'src'), i.e. the joint's share of the variance "
+                   "explained linearly; with fewer samples than components + 2, the R^2 of a "
+                   "regression on the joint's own components (method 'src_per_joint')",
+    "characteristics": "as in elastokin kc summary.json (same names and units); parallel "
+                       "travel: steer amplitude and bump steer over the stroke, bump camber "
+                       "fitted over the stroke (rebound to bump)",
+}
+
+#: statistics reported for every characteristic
+STATISTICS = ("mean", "std", "p05", "p95", "min", "max")
+
+
+def statistics(values: Iterable[float]) -> dict[str, float | None]:
+    """mean, sample standard deviation (ddof 1), 5th / 95th percentile (linear
+    interpolation), min, max and count of the finite values; None where undefined."""
+    x = np.array([v for v in values if v is not None and math.isfinite(v)], float)
+    if x.size == 0:
+        return {k: None for k in STATISTICS} | {"n": 0}
+    return {"mean": float(np.mean(x)),
+            "std": float(np.std(x, ddof=1)) if x.size > 1 else None,
+            "p05": float(np.percentile(x, 5)), "p95": float(np.percentile(x, 95)),
+            "min": float(np.min(x)), "max": float(np.max(x)), "n": int(x.size)}
+
+
+def standardised_regression(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float]:
+    """Standardised regression coefficients of y (n,) on the columns of X (n, p) by least
+    squares with an intercept: SRC_i = b_i std(x_i) / std(y); and the R^2 of the fit. Needs
+    n >= p + 2. A constant y gives zeros and R^2 = 0."""
+    X = np.asarray(X, float)
+    y = np.asarray(y, float)
+    n, p = X.shape
+    if n < p + 2:
+        raise ValueError(f"{n} samples cannot fit {p} inputs (need at least {p + 2})")
+    sx, sy = X.std(axis=0, ddof=1), y.std(ddof=1)
+    if not sy > 0:
+        return np.zeros(p), 0.0
+    A = np.c_[np.ones(n), X - X.mean(axis=0)]
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    resid = y - A @ coef
+    r2 = 1.0 - float(resid @ resid) / float(((y - y.mean()) ** 2).sum())
+    return coef[1:] * sx / sy, r2
+
+
+def joint_sensitivity(X: np.ndarray, y: np.ndarray, groups: list[str]) -> dict:
+    """Each joint's share of the variance of y explained linearly by its shift components.
+
+    ``groups[i]`` names the joint of column i of X (n, p). With n >= p + 2 samples, one
+    multiple regression on every component (``method: src``): a joint's figure is the sum of
+    the squared SRCs of its components. With fewer samples, one regression per joint on its
+    own components (``method: src_per_joint``): the figure is that regression's R^2 (the same
+    quantity when the inputs are independent, noisier). Joints whose figure cannot be
+    estimated (too few samples) get None.
+    """
+    X = np.asarray(X, float)
+    y = np.asarray(y, float)
+    names = list(dict.fromkeys(groups))
+    cols = {j: [i for i, g in enumerate(groups) if g == j] for j in names}
+    n, p = X.shape
+    if n >= p + 2:
+        src, r2 = standardised_regression(X, y)
+        joints = {j: float(np.sum(src[cols[j]] ** 2)) for j in names}
+        return {"method": "src", "r2": r2, "joints": joints,
+                "src": [float(v) for v in src]}
+    joints = {}
+    for j in names:
+        if n >= len(cols[j]) + 2:
+            _, r2j = standardised_regression(X[:, cols[j]], y)
+            joints[j] = float(r2j)
+        else:
+            joints[j] = None
+    return {"method": "src_per_joint", "r2": None, "joints": joints, "src": None}
+
+
+def json_safe(x):
+    """JSON-safe: numpy scalars to Python, NaN/inf to None."""
+    if isinstance(x, dict):
+        return {k: json_safe(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_safe(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        return float(x) if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    return x
+
+
+def aggregate(study, records: list[dict], nominal: dict | None = None) -> dict:
+    """The study's results (the body of ``doe.json`` without provenance): counts, the
+    distribution of every characteristic over the samples that solved, the sensitivity of
+    each to each joint, and the failures. ``records`` in sample order."""
+    ok = [r for r in records if r["status"] == "ok"]
+    found = {k for r in ok for k in r["characteristics"]}
+    names = [k for k in (nominal or {}) if k in found] + sorted(found - set(nominal or {}))
+    idx = [r["sample"] for r in ok]
+    X = study.components[idx] if idx else np.zeros((0, study.components.shape[1]))
+    groups = [j.name for j in study.joints for _ in range(j.dimensions)]
+    dists, sens = {}, {}
+    for name in names:
+        y = np.array([r["characteristics"].get(name, np.nan) for r in ok], float)
+        dists[name] = statistics(y)
+        good = np.isfinite(y)
+        sens[name] = joint_sensitivity(X[good], y[good], groups) if good.sum() > 0 else {
+            "method": None, "r2": None, "joints": {j.name: None for j in study.joints},
+            "src": None}
+    steer = dists.get("steer_amplitude_deg", statistics([]))
+    steer_sens = sens.get("steer_amplitude_deg", {"joints": {j.name: None
+                                                             for j in study.joints}})
+    out = {
+        "samples": study.samples,
+        "completed": len(records),
+        "failed": len(records) - len(ok),
+        "seed": study.seed,
+        "method": study.method,
+        "load_cases": study.load_cases,
+        "steer_amplitude_deg": steer,
+        "sensitivity": steer_sens["joints"],
+        "sensitivity_method": steer_sens.get("method"),
+        "sensitivity_r2": steer_sens.get("r2"),
+        "characteristics": dists,
+        "sensitivity_by_characteristic": {k: {"joints": v["joints"], "method": v["method"],
+                                              "r2": v["r2"]} for k, v in sens.items()},
+        "src_components": {"inputs": [c for j in study.joints for c in j.components],
+                           **{k: v["src"] for k, v in sens.items()}},
+        "nominal": nominal,
+        "clearances": {j.name: {"region": j.kind, "max_shift_mm": j.max_shift_mm,
+                                "axes": j.axes.T.tolist()} for j in study.joints},
+        "failures": [{"sample": r["sample"], "error": r["error"]} for r in records
+                     if r["status"] != "ok"],
+    }
+    return json_safe(out)

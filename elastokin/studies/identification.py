@@ -1,0 +1,45 @@
+"""Geometric identification as a study: the paper's method (:mod:`elastokin.identification.
+geometric`, pure geometry) with its two solves, the bushing loads at the measured poses
+[22-23] and the verification [7]. Units mm, N, N*mm, deg; config frame."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from elastokin.config.loading import suspension_from_dict
+from elastokin.config.suspension import Suspension
+from elastokin.identification.geometric import (
+    Identification,
+    apply_design_loads,
+    identify,
+    verification_deviations,
+)
+from elastokin.mbs.design import build_model, design_state
+from elastokin.rig.load_cases import static_equilibrium
+
+
+def identified_suspension(ident: Identification) -> Suspension:
+    """The identified model's suspension (its config as written to identified.yaml)."""
+    return suspension_from_dict(ident.identified_config,
+                                f"{ident.suspension.source} (identified)",
+                                ident.suspension.sha256)
+
+
+def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
+                      verify: bool = True) -> Identification:
+    """Identify the geometry of ``suspension`` from its CMM measurements, solve the identified
+    model's bushing deflections at the measured poses and (``verify``) check that its static
+    equilibrium puts every joint at its measured location."""
+    ident = identify(suspension, progress)
+    progress("bushing loads at the measured poses")
+    balanced = suspension_from_dict(ident.identified_config,
+                                    f"{suspension.source} (identified)")
+    apply_design_loads(ident, balanced, design_state(balanced))
+    if verify:
+        progress("verifying the identified model")
+        identified = suspension_from_dict(ident.identified_config,
+                                          f"{suspension.source} (identified)")
+        model = build_model(identified)
+        static_equilibrium(model)
+        verification_deviations(ident, identified, model.part_poses())
+    return ident
