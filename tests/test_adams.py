@@ -41,9 +41,9 @@ def travel_only(cfg: dict) -> dict:
 
 
 def steer_amplitude(cfg: dict, name: str) -> float:
-    from elastokin.studies.kc_job import run_vertical_kc
+    from elastokin.studies.kc_job import run_kc
 
-    run = run_vertical_kc(suspension_from_dict(travel_only(cfg), name))
+    run = run_kc(suspension_from_dict(travel_only(cfg), name))
     return run.models["initial"].summary()["steer_amplitude_deg"]
 
 

@@ -1,8 +1,9 @@
 """``elastokin import-adams`` and ``elastokin export-adams`` (ADAMS/Car files, see docs/adams.md).
 
-Units at every
-interface: mm, N, N*mm, deg; ADAMS files are converted on reading and written in mm, newton,
-degrees. Input errors end in one line on stderr and exit code 1.
+Units at every interface: mm, N, N*mm, deg; ADAMS files are converted on reading and written in
+mm, newton, degrees. Frames: ADAMS/Car's global frame (X rearward, Y right, Z up) in the ADAMS
+files, the config's ``frame`` in elastokin configs. Input errors end in one line on stderr and
+exit code 1.
 """
 
 from __future__ import annotations

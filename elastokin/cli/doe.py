@@ -8,7 +8,6 @@ same command to resume).
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 import time
@@ -28,13 +27,6 @@ def _cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not Linux
         return os.cpu_count() or 1
-
-
-def _write_json(path: Path, doc: dict) -> None:
-    """Write JSON atomically (temporary file, then rename)."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(json.dumps(doc, indent=2) + "\n")
-    os.replace(tmp, path)
 
 
 def _check_out(out: Path, store_name: str) -> None:
@@ -87,12 +79,10 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     from tqdm import tqdm
 
     from elastokin.config.loading import load_suspension_with_rig
-    from elastokin.report.doe_charts import doe_charts
-    from elastokin.report.files import config_provenance
+    from elastokin.report.files import write_doe_results
     from elastokin.report.text import doe_table
     from elastokin.studies import doe as study_mod
-    from elastokin.studies.doe_runner import STORE, SampleStore, batch_size, dask_client, run_study
-    from elastokin.studies.doe_statistics import DEFINITIONS, aggregate
+    from elastokin.studies.doe_runner import STORE, SampleStore, execute
 
     t0 = time.perf_counter()
     out_dir = out_dir or Path("results") / f"{config_path.stem}_doe"
@@ -101,7 +91,6 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     if workers is not None and workers < 1:
         fail(f"--workers: must be at least 1, got {workers}")
     workers = workers or _cores()
-    client = cluster = None
     try:
         suspension = load_suspension_with_rig(config_path, rig_path)
         study = study_mod.make_study(suspension, samples, method, seed, load_cases)
@@ -117,27 +106,11 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         nominal = study_mod.nominal_characteristics(study)
         solver = study_mod.solver_settings(study)
         pending = samples - resumed
-        where = "serial"
         with tqdm(total=samples, initial=resumed, disable=quiet, file=sys.stderr, leave=False,
                   unit="sample", desc="DOE samples") as bar:
-            if pending and (scheduler is not None or workers > 1):
-                client, cluster = dask_client(scheduler, workers)
-                n = len(client.scheduler_info().get("workers", {}))
-                where = f"dask scheduler {client.scheduler.address}, {n} workers"
-                run_study(study, store, client, progress=bar.update,
-                                    batch=batch_size(pending, n))
-            else:
-                run_study(study, store, None, progress=bar.update)
-        records = store.ordered()
-        body = aggregate(study, records, nominal)
-        prov = config_provenance(suspension)
-        files = [p.name for p in doe_charts(body, records, out_dir, prov)]
-        doc = {**prov, "solver": solver, **body,
-               "files": ["doe.json", STORE, "doe_run.json", *files],
-               "definitions": DEFINITIONS}
-        _write_json(out_dir / "doe.json", doc)
-        _write_json(out_dir / "doe_run.json", {
-            **prov, "executed_on": where, "samples_evaluated_this_run": pending,
+            where = execute(study, store, scheduler, workers, bar.update)
+        doc = write_doe_results(out_dir, study, store.ordered(), nominal, solver, {
+            "executed_on": where, "samples_evaluated_this_run": pending,
             "samples_resumed": resumed, "wall_time_s": round(time.perf_counter() - t0, 3)})
     except KeyboardInterrupt:
         click.echo(f"elastokin: interrupted: the finished samples are saved in "
@@ -147,11 +120,6 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         fail(str(exc))
     except OSError as exc:
         fail(f"--out {out_dir}: cannot write ({exc.strerror or exc})")
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
     if not quiet:
         click.echo(doe_table(doc, out_dir))
     if doc["failed"]:

@@ -267,8 +267,31 @@ class Resolver:
                 raise self.fail(key + ".travel_mm", "must be 0 when 'design' balances the "
                                 "hardpoints (they are the equilibrium with the rack centred)")
             joints.append(Joint(name, kind, parts, pos, frame, CONSTRAINED[kind], offset))
+        springs = self.springs()
+        self.check_design(bushings)
+        w = s.wheel
+        wheel_part = self.part(w.part, "wheel.part")
+        if wheel_part == s.ground:
+            raise self.fail("wheel.part", "the wheel cannot be carried by the ground part")
+        centre = self.point(w.centre, "wheel.centre")
+        spin = self.axis(w.spin_axis, "wheel.spin_axis")
+        res = Suspension(
+            name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
+            ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
+            wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
+            joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
+            springs=tuple(springs), design=s.design, kinematic=s.kinematic, solver=s.solver,
+            rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
+            kc_test=s.kc_test,
+        )
+        # orient the spin axis outboard, whatever sign the file used
+        if spin @ res.outboard < 0:
+            object.__setattr__(res.wheel, "spin_axis", -spin)
+        return res
+
+    def springs(self) -> list[Spring]:
         springs = []
-        for name, sp in s.springs.items():
+        for name, sp in self.spec.springs.items():
             key = f"springs.{name}"
             parts = self.parts(sp.parts, key)
             seats = (self.point(sp.seats[0], key + ".seats"),
@@ -278,6 +301,11 @@ class Resolver:
             springs.append(
                 Spring(name, parts, seats, sp.rate_N_per_mm, sp.preload_N, sp.free_length_mm)
             )
+        return springs
+
+    def check_design(self, bushings: list[Bushing]) -> None:
+        """The ``design`` section agrees with the springs' and bushings' own preloads."""
+        s = self.spec
         d = s.design
         if d.balance_spring is not None:
             if d.balance_spring not in s.springs:
@@ -296,25 +324,6 @@ class Resolver:
                 if b.preload_given:
                     raise self.fail(f"connections.{b.name}", "preload / initial_deflection "
                                     "conflicts with design.balance_bushing_preloads: true")
-        w = s.wheel
-        wheel_part = self.part(w.part, "wheel.part")
-        if wheel_part == s.ground:
-            raise self.fail("wheel.part", "the wheel cannot be carried by the ground part")
-        centre = self.point(w.centre, "wheel.centre")
-        spin = self.axis(w.spin_axis, "wheel.spin_axis")
-        res = Suspension(
-            name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
-            ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
-            wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
-            joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
-            springs=tuple(springs), design=d, kinematic=s.kinematic, solver=s.solver, rig=s.rig,
-            reference=s.reference, raw=raw, measurements=s.measurements,
-            kc_test=s.kc_test,
-        )
-        # orient the spin axis outboard, whatever sign the file used
-        if spin @ res.outboard < 0:
-            object.__setattr__(res.wheel, "spin_axis", -spin)
-        return res
 
     def bushing(self, name: str, c: BushingSpec, parts, pos, key: str) -> Bushing:
         frame = self.bushing_frame(c, key)

@@ -1,26 +1,14 @@
-"""Kinematics-and-compliance (K&C) rig test data: one CSV file per load case.
+"""K&C rig test files, one CSV file per load case: reader and writer (``docs/kc_test_data.md``).
 
-The format is documented in ``docs/kc_test_data.md``; in short::
-
-    # load_case: lateral_force
-    # rig: ABD SPMM 2 (free text, kept as notes)
-    lateral_force [kN],toe [deg],camber [deg],wheel_centre_lateral [mm]
-    0.0,0.0,0.0,0.0
-    0.1,-0.0021,0.004,0.061
-    ...
-
-UTF-8 text; optional ``#`` comment lines before the header (one may be ``# load_case: <name>``,
-the others are kept as free-text notes); one header row whose column names carry their unit in
-square brackets; then one numeric row per rig step. The first column is the load case's input
-channel. Known channels (:data:`CHANNELS`) are converted once, here, to elastokin units (mm, N,
-N*mm, deg); unknown channels are kept unconverted and reported in :attr:`KCTest.warnings`.
-
-Signs are per wheel, as :mod:`elastokin.characteristics` defines them: longitudinal forward,
-lateral outboard, vertical up; toe positive toe-in, camber positive top outboard; forces and the
-aligning torque are those the rig applies to the wheel (the torque positive in the toe-in
-sense). Every problem raises :class:`~elastokin.errors.MeasurementError` naming the file, the
-column or line, and what is expected. :func:`write_kc_test` writes the same format with
-deterministic bytes (synthetic test data regenerate exactly).
+UTF-8 text: optional ``#`` comment lines (one may be ``# load_case: <name>``, the others are kept
+as notes), a header row of ``name [unit]`` cells, then one numeric row per rig step; the first
+column is the load case's input channel. Known channels (:data:`CHANNELS`) are converted once,
+here, to elastokin units (mm, N, N*mm, deg); unknown ones are kept unconverted and reported in
+:attr:`KCTest.warnings`. Frame: per wheel (``docs/characteristics.md``): longitudinal forward,
+lateral outboard, vertical up; toe-in +, camber top outboard +; forces and the aligning torque
+(toe-in sense +) are those the rig applies to the wheel. Problems raise
+:class:`~elastokin.errors.MeasurementError` naming the file and the column or line;
+:func:`write_kc_test` writes deterministic bytes.
 """
 
 from __future__ import annotations
@@ -256,27 +244,21 @@ def _check_sweep(path, column: str, x: np.ndarray, lines: Sequence[int],
 # --------------------------------------------------------------------------------------- read
 
 
-def read_kc_test(path: str | Path,
-                 jitter_tolerance: float = DEFAULT_JITTER_TOLERANCE) -> KCTest:
-    """Read one K&C test file (``docs/kc_test_data.md``); values converted to mm, N, N*mm, deg.
-
-    ``jitter_tolerance``: input reversals smaller than this fraction of the input's range do
-    not count as turning points. Raises :class:`MeasurementError` naming the file, the column or
-    line, and what is expected.
-    """
-    if not 0.0 <= jitter_tolerance < 0.5:
-        raise ValueError(f"jitter_tolerance is a fraction of the input range in [0, 0.5), "
-                         f"got {jitter_tolerance}")
-    p = Path(path)
+def _read_text(p: Path) -> str:
+    """The file's text (UTF-8, a byte-order mark dropped)."""
     try:
-        text = p.read_bytes().decode("utf-8-sig")
+        return p.read_bytes().decode("utf-8-sig")
     except OSError as exc:
         raise MeasurementError(f"{p}: cannot read K&C test file ({exc.strerror})") from None
     except UnicodeDecodeError as exc:
         raise MeasurementError(f"{p}: not UTF-8 text (byte {exc.start}); save the CSV file as "
                                "UTF-8") from None
 
-    lines = text.splitlines()
+
+def _read_comments(p: Path, lines: Sequence[str]
+                   ) -> tuple[list[str], tuple[str, int] | None, int]:
+    """The ``#`` lines before the header: (free-text notes, the ``# load_case:`` value and its
+    line or None, the header's line number)."""
     notes: list[str] = []
     declared: tuple[str, int] | None = None
     header_at = None
@@ -299,8 +281,11 @@ def read_kc_test(path: str | Path,
     if header_at is None:
         raise MeasurementError(f"{p}: no header row (expected e.g. 'wheel_travel [mm],toe [deg]' "
                                "after the '#' comment lines)")
+    return notes, declared, header_at
 
-    # load case: the comment line, else the file name
+
+def _resolve_load_case(p: Path, declared: tuple[str, int] | None) -> str:
+    """The load case: the ``# load_case:`` line, else the file name (both must agree)."""
     from_name = _load_case_from_name(p)
     if declared is not None:
         load_case = declared[0]
@@ -310,22 +295,33 @@ def read_kc_test(path: str | Path,
         if from_name is not None and from_name != load_case:
             raise MeasurementError(f"{p}: line {declared[1]}: load case '{load_case}' "
                                    f"contradicts the file name, which names '{from_name}'")
-    elif from_name is not None:
-        load_case = from_name
-    else:
-        raise MeasurementError(f"{p}: cannot tell the load case: add a line "
-                               "'# load_case: <name>' before the header or name the file "
-                               f"'<name>.csv' (load cases: {', '.join(LOAD_CASES)})")
-    case = LOAD_CASES[load_case]
+        return load_case
+    if from_name is not None:
+        return from_name
+    raise MeasurementError(f"{p}: cannot tell the load case: add a line "
+                           "'# load_case: <name>' before the header or name the file "
+                           f"'<name>.csv' (load cases: {', '.join(LOAD_CASES)})")
 
-    # header: names, units, conversion factors
-    header_line = lines[header_at - 1]
+
+@dataclass
+class _Header:
+    """The header row: channel names in file order, their units, each column's factor to the
+    elastokin unit, the unknown channels and the cells as written (for messages)."""
+
+    names: list[str]
+    units: dict[str, str]
+    factors: list[float]
+    unknown: list[str]
+    display: list[str]
+
+
+def _parse_header(p: Path, header_line: str, header_at: int) -> _Header:
+    """Names, units and conversion factors of the header row (line ``header_at``)."""
     if ";" in header_line and "," not in header_line:
         raise MeasurementError(f"{p}: line {header_at}: the header is separated by ';'; save "
                                "the file as comma-separated CSV with '.' as decimal point")
     raw = next(csv.reader([header_line]))
-    names, units, factors = [], {}, []
-    unknown = []
+    names, units, factors, unknown = [], {}, [], []
     for k, cell in enumerate(raw, start=1):
         name, unit = _parse_header_cell(p, cell, k)
         if name in names:
@@ -349,8 +345,13 @@ def read_kc_test(path: str | Path,
                                    f"is not a unit of {channel.quantity}; expected {expected}")
         units[name] = channel.unit
         factors.append(factor)
-    display = [c.strip() for c in raw]
+    return _Header(names, units, factors, unknown, [c.strip() for c in raw])
 
+
+def _check_channels(p: Path, load_case: str, header: _Header) -> None:
+    """The load case's input channel comes first and its required channels are present."""
+    case = LOAD_CASES[load_case]
+    names, display = header.names, header.display
     if names[0] != case.input:
         inp = CHANNELS[case.input]
         raise MeasurementError(f"{p}: header: load case '{load_case}' needs its input channel "
@@ -362,7 +363,11 @@ def read_kc_test(path: str | Path,
         raise MeasurementError(f"{p}: header: load case '{load_case}' needs channel(s) {need}; "
                                f"the file has {', '.join(display)}")
 
-    # data rows
+
+def _parse_rows(p: Path, lines: Sequence[str], header_at: int, header: _Header
+                ) -> tuple[list[list[float]], list[int]]:
+    """The data rows after the header (unconverted values) and their line numbers."""
+    names, display = header.names, header.display
     rows, row_lines = [], []
     for n in range(header_at + 1, len(lines) + 1):
         line = lines[n - 1]
@@ -390,16 +395,38 @@ def read_kc_test(path: str | Path,
             values.append(v)
         rows.append(values)
         row_lines.append(n)
-    data = np.array(rows, float).reshape(len(rows), len(names)) * np.array(factors)
+    return rows, row_lines
+
+
+def read_kc_test(path: str | Path,
+                 jitter_tolerance: float = DEFAULT_JITTER_TOLERANCE) -> KCTest:
+    """Read one K&C test file (``docs/kc_test_data.md``); values converted to mm, N, N*mm, deg.
+
+    ``jitter_tolerance``: input reversals smaller than this fraction of the input's range do
+    not count as turning points. Raises :class:`MeasurementError` naming the file, the column or
+    line, and what is expected.
+    """
+    if not 0.0 <= jitter_tolerance < 0.5:
+        raise ValueError(f"jitter_tolerance is a fraction of the input range in [0, 0.5), "
+                         f"got {jitter_tolerance}")
+    p = Path(path)
+    lines = _read_text(p).splitlines()
+    notes, declared, header_at = _read_comments(p, lines)
+    load_case = _resolve_load_case(p, declared)
+    header = _parse_header(p, lines[header_at - 1], header_at)
+    _check_channels(p, load_case, header)
+    names, display = header.names, header.display
+    rows, row_lines = _parse_rows(p, lines, header_at, header)
+    data = np.array(rows, float).reshape(len(rows), len(names)) * np.array(header.factors)
     channels = {name: data[:, k].copy() for k, name in enumerate(names)}
     branches = _check_sweep(p, display[0], channels[names[0]], row_lines, jitter_tolerance)
 
     warnings = []
-    if unknown:
-        listed = ", ".join(display[names.index(u)] for u in unknown)
+    if header.unknown:
+        listed = ", ".join(display[names.index(u)] for u in header.unknown)
         warnings.append(f"{p}: channel(s) elastokin does not know, kept unconverted: {listed}")
-    return KCTest(load_case, case.input, channels, units, str(p), notes, tuple(unknown),
-                  branches, warnings)
+    return KCTest(load_case, LOAD_CASES[load_case].input, channels, header.units, str(p), notes,
+                  tuple(header.unknown), branches, warnings)
 
 
 # -------------------------------------------------------------------------------------- write

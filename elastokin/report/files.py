@@ -243,3 +243,30 @@ def read_results(folder: str | Path) -> tuple[dict, list[Sweep]]:
     """An ``elastokin kc`` results folder: summary.json and the sweeps of kc.csv."""
     folder = Path(folder)
     return json.loads((folder / "summary.json").read_text()), read_kc_csv(folder / "kc.csv")
+
+
+def write_json(path: Path, doc: dict) -> None:
+    """Write JSON atomically (temporary file, then rename)."""
+    import os
+
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(json.dumps(doc, indent=2) + "\n")
+    os.replace(tmp, path)
+
+
+def write_doe_results(out_dir: Path, study, records: list[dict], nominal: dict,
+                      solver: dict, run: dict) -> dict:
+    """A DOE study's doe.json (statistics, sensitivity, failures, definitions, provenance),
+    doe_run.json (where and how long it ran: ``run``) and charts. Returns doe.json's content."""
+    from elastokin.report.doe_charts import doe_charts
+    from elastokin.studies.doe_runner import STORE
+    from elastokin.studies.doe_statistics import DEFINITIONS, aggregate
+
+    body = aggregate(study, records, nominal)
+    prov = config_provenance(study.suspension)
+    files = [p.name for p in doe_charts(body, records, out_dir, prov)]
+    doc = {**prov, "solver": solver, **body,
+           "files": ["doe.json", STORE, "doe_run.json", *files], "definitions": DEFINITIONS}
+    write_json(out_dir / "doe.json", doc)
+    write_json(out_dir / "doe_run.json", {**prov, **run})
+    return doc

@@ -160,3 +160,23 @@ def dask_client(scheduler: str | None, workers: int):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=logging.ERROR)
     return Client(cluster), cluster
+
+
+def execute(study: Study, store: SampleStore, scheduler: str | None, workers: int,
+            progress: Callable[[int], None] = lambda n: None) -> str:
+    """Evaluate the study's pending samples: on the dask scheduler ``scheduler``, on a
+    LocalCluster of ``workers`` processes, or (one worker, nothing pending) in this process.
+    Returns where they ran."""
+    pending = study.samples - len(store.records)
+    if not pending or (scheduler is None and workers <= 1):
+        run_study(study, store, None, progress=progress)
+        return "serial"
+    client, cluster = dask_client(scheduler, workers)
+    try:
+        n = len(client.scheduler_info().get("workers", {}))
+        run_study(study, store, client, progress=progress, batch=batch_size(pending, n))
+        return f"dask scheduler {client.scheduler.address}, {n} workers"
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
