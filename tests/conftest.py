@@ -38,3 +38,19 @@ def case_dict() -> dict:
 
 def make_suspension(data: dict, name: str = "test.yaml"):
     return suspension_from_dict(data, name)
+
+
+@pytest.fixture(scope="session")
+def case_kc(tmp_path_factory) -> Path:
+    """``elastokin kc`` on the shipped case study, run once per test session and shared by
+    every test that reads its files (about 2 minutes: identification, 4 models, the stiffness
+    fit). Tests using it are marked slow."""
+    from click.testing import CliRunner
+
+    from elastokin.cli import main
+
+    out = tmp_path_factory.mktemp("case_kc") / "res"
+    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--out", str(out),
+                                       "--quiet"])
+    assert result.exit_code == 0, result.output
+    return out

@@ -16,14 +16,12 @@ def run_kc(config, out):
                                      "--quiet"])
 
 
-@pytest.fixture(scope="module")
-def kc_out(tmp_path_factory, case_path):
-    out = tmp_path_factory.mktemp("kc") / "res"
-    result = run_kc(case_path, out)
-    assert result.exit_code == 0, result.output
-    return out
+@pytest.fixture
+def kc_out(case_kc):
+    return case_kc
 
 
+@pytest.mark.slow
 def test_summary_contract(kc_out, case):
     s = json.loads((kc_out / "summary.json").read_text())
     assert isinstance(s["elastokin_version"], str) and isinstance(s["exudyn_version"], str)
@@ -57,6 +55,7 @@ def test_nominal_model_regression(case_dict, tmp_path):
         0.5479, abs=0.005)
 
 
+@pytest.mark.slow
 def test_kc_csv_long_format(kc_out):
     lines = (kc_out / "kc.csv").read_text().splitlines()
     assert lines[0].startswith("# elastokin_version")
@@ -73,6 +72,7 @@ def test_kc_csv_long_format(kc_out):
     assert travel[0] == pytest.approx(-90, abs=1.0) and travel[-1] == pytest.approx(90, abs=1)
 
 
+@pytest.mark.slow
 def test_charts_written(kc_out):
     for name in ("steer_vs_travel.png", "steer_vs_travel.svg"):
         assert (kc_out / name).stat().st_size > 1000

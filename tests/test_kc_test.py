@@ -204,11 +204,9 @@ def test_error_ignores_a_static_offset_and_measures_a_slope_by_hand():
                            "toe_deg") == pytest.approx(expected, rel=1e-12)
 
 
-def test_kc_summary_contract_errors_and_report(tmp_path):
-    out = tmp_path / "out"
-    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--out", str(out),
-                                       "--quiet"])
-    assert result.exit_code == 0, result.output
+@pytest.mark.slow
+def test_kc_summary_contract_errors_and_report(case_kc):
+    out = case_kc
     summary = json.loads((out / "summary.json").read_text())
     keys = ("steer_amplitude_deg", "bump_steer_deg_per_m",
             "lateral_compliance_steer_deg_per_kN", "longitudinal_compliance_mm_per_kN")

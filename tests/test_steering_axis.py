@@ -19,15 +19,15 @@ from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import ModelOptions
 from elastokin.physics import steering_geometry as ch
 from elastokin.physics.states import PartPoses, StepState
-from elastokin.physics.steering_axis import (
-    _null_spaces,
-    steering_axes_from_poses,
-    steering_skeleton,
-)
+from elastokin.physics.steering_axis import _null_spaces, steering_axes_from_poses
 from elastokin.rig.channels import STEERING_AXIS_COLUMNS
 from elastokin.rig.load_cases import parallel_travel, static_equilibrium
 from elastokin.rig.pad import run_pad
-from elastokin.rig.steering import SteeringAxisWarning, steering_axis_columns
+from elastokin.rig.steering import (
+    SteeringAxisWarning,
+    steering_axis_columns,
+    steering_skeleton,
+)
 from elastokin.studies.kc_job import ModelResult
 
 ROOT = Path(__file__).parent.parent

@@ -9,13 +9,8 @@ from hypothesis import strategies as st
 
 from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.errors import ConfigError
-from elastokin.identification.stiffness import (
-    Residuals,
-    effective_residual_count,
-    identify_stiffness,
-    stiffness_config,
-    with_stiffness,
-)
+from elastokin.identification.stiffness import Residuals, identify_stiffness, with_stiffness
+from elastokin.identification.stiffness_results import effective_residual_count, stiffness_config
 from elastokin.mbs.design import design_state
 from elastokin.physics.laws import DirectionLaw, ProgressiveLaw
 from elastokin.rig.load_cases import run_load_cases

@@ -139,9 +139,9 @@ def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Pat
         if identified:
             if s.measurements is None:
                 raise ConfigError(f"{config_path}: --identified needs a 'measurements' section")
-            from elastokin.identification.geometric import identify
+            from elastokin.studies.identification import identify_geometry
 
-            ident = identify(s)
+            ident = identify_geometry(s)
             s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
                                      s.sha256)
         preload = None

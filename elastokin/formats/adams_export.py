@@ -193,7 +193,7 @@ def export_adams(s: Suspension, out_dir: str | Path,
     if bushing_preload is None:
         if s.design.balance_bushing_preloads and s.bushings:
             raise ConfigError(f"{s.source}: design.balance_bushing_preloads: the bushing "
-                              "preloads must be solved first (elastokin.model.design_state)")
+                              "preloads must be solved first (elastokin.mbs.design.design_state)")
         bushing_preload = {b.name: [law(u) for law, u in zip(b.laws, b.initial_deflection)]
                            for b in s.bushings}
     out = Path(out_dir)

@@ -8,77 +8,48 @@ ADAMS/Car's global frame (X rearward, Y right, Z up). Channel names: ``docs/adam
 from __future__ import annotations
 
 import csv
-import re
 from collections.abc import Iterable
 from pathlib import Path
 
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_car import clean, frame_signs
+from elastokin.rig.channels import CHANNEL_LIST, channel
 from elastokin.version import __version__
 
 __all__ = [
     "FRAME_CHANNELS",
-    "KC_CHANNELS",
+    "adams_channel",
     "kc_to_adams_channels",
     "write_adams_kc_csv",
 ]
 
-#: elastokin kc.csv column -> (ADAMS-style channel, unit, meaning); springs and bushings by
-#: pattern (:func:`_channel`). Units and signs are elastokin's (README, sign conventions), except
-#: the components in :data:`FRAME_CHANNELS`.
-KC_CHANNELS: dict[str, tuple[str, str, str]] = {
-    "model": ("model", "", "elastokin model label"),
-    "load_case": ("load_case", "", "elastokin load case"),
-    "step": ("step", "", "step number"),
-    "branch": ("branch", "", "sweep branch"),
-    "pad_z_mm": ("pad_vertical_displacement", "mm", "rig pad height from design, + up"),
-    "wheel_travel_mm": ("wheel_travel", "mm", "wheel-centre vertical travel, + bump"),
-    "toe_deg": ("toe_angle", "deg", "toe angle, + toe-in"),
-    "camber_deg": ("camber_angle", "deg", "camber angle, + top of the wheel outboard"),
-    "wheel_centre_longitudinal_mm": ("wheel_travel_base", "mm",
-                                     "wheel-centre longitudinal displacement, + forward"),
-    "wheel_centre_lateral_mm": ("wheel_travel_track", "mm",
-                                "wheel-centre lateral displacement, + to the vehicle's left"),
-    "wheel_centre_x_mm": ("wheel_center_x", "mm", "wheel-centre x, ADAMS/Car frame"),
-    "wheel_centre_y_mm": ("wheel_center_y", "mm", "wheel-centre y, ADAMS/Car frame"),
-    "wheel_centre_z_mm": ("wheel_center_z", "mm", "wheel-centre z, ADAMS/Car frame"),
-    "contact_patch_fx_N": ("tire_force_x", "N", "rig force on the tyre, x, ADAMS frame"),
-    "contact_patch_fy_N": ("tire_force_y", "N", "rig force on the tyre, y, ADAMS frame"),
-    "contact_patch_fz_N": ("tire_force_z", "N", "rig force on the tyre, z, ADAMS frame"),
-    "vertical_force_N": ("vertical_force", "N", "rig vertical force on the tyre, + up"),
-    "lateral_force_N": ("lateral_force", "N", "rig lateral force on the tyre, + left"),
-    "longitudinal_force_N": ("longitudinal_force", "N",
-                             "rig longitudinal force on the tyre, + forward"),
-    "aligning_torque_Nmm": ("aligning_torque", "N*mm", "rig torque about the vertical, + up"),
-}
-
+#: the columns of kc.csv that are not channels: kept under their own names
+_INDEX = {"model": "elastokin model label", "load_case": "elastokin load case",
+          "step": "step number", "branch": "sweep branch"}
 #: config-frame components, converted to the ADAMS/Car frame (X rearward, Y right, Z up)
-FRAME_CHANNELS = {f"wheel_centre_{a}_mm": a for a in "xyz"} | {
-    f"contact_patch_f{a}_N": a for a in "xyz"}
+FRAME_CHANNELS = {c.name: c.adams_frame for c in CHANNEL_LIST if c.adams_frame}
 
 
-def _channel(column: str) -> tuple[str, str, str]:
-    if column in KC_CHANNELS:
-        return KC_CHANNELS[column]
-    m = re.fullmatch(r"spring_(.+)_force_N", column)
-    if m:
-        return f"{m.group(1)}_spring_force", "N", "spring force, + compression"
-    m = re.fullmatch(r"bushing_(.+)_(r?)([xyz])_(mm|deg)", column)
-    if m:
-        kind = "rot" if m.group(2) else "disp"
-        return (f"bushing_{m.group(1)}_{kind}_{m.group(3)}", m.group(4),
-                "bushing deflection, part 2 rel. part 1, bushing frame")
-    return column, "", "not an elastokin column: kept as is"
+def adams_channel(column: str) -> tuple[str, str, str]:
+    """(ADAMS-style channel name, unit, meaning) of a kc.csv column, from the channel table
+    (:mod:`elastokin.rig.channels`); unknown columns are kept as they are."""
+    if column in _INDEX:
+        return column, "", _INDEX[column]
+    ch = channel(column)
+    if ch is None or ch.adams is None:
+        return column, "", "not an elastokin column: kept as is"
+    meaning = f"{ch.sign}; ADAMS/Car frame" if ch.adams_frame else ch.sign
+    return ch.adams, ch.unit, meaning
 
 
 def kc_to_adams_channels(header: list[str], rows: Iterable[list[str]], frame
                          ) -> tuple[list[str], list[str], list[list[str]]]:
-    """Rename elastokin ``kc.csv`` columns to ADAMS-style channels (:data:`KC_CHANNELS`) and
+    """Rename elastokin ``kc.csv`` columns to ADAMS-style channels (:func:`adams_channel`) and
     convert the config-frame components (wheel-centre coordinates, contact-patch forces) to the
     ADAMS/Car frame. Returns (channel names, units, rows); values are text, units unchanged
     (mm, N, N*mm, deg)."""
     signs = frame_signs(frame)
-    chans = [_channel(c) for c in header]
+    chans = [adams_channel(c) for c in header]
     flip = [c in FRAME_CHANNELS and signs["xyz".index(FRAME_CHANNELS[c])] < 0 for c in header]
     out = []
     for row in rows:

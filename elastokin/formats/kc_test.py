@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.errors import MeasurementError
+from elastokin.rig.channels import CHANNEL_LIST, LOAD_CASE_LIST
 
 __all__ = [
     "CHANNELS",
@@ -53,7 +54,8 @@ _UNIT_ALIASES = {"Nmm": "N*mm", "Nm": "N*m", "kNm": "kN*m", "°": "deg", "degree
 
 @dataclass(frozen=True)
 class Channel:
-    """A known channel: its quantity (a key of :data:`UNITS`) and its sign convention."""
+    """A known test-file channel (from the channel table, :mod:`elastokin.rig.channels`): its
+    quantity (a key of :data:`UNITS`) and its per-wheel sign convention."""
 
     name: str
     quantity: str
@@ -65,28 +67,9 @@ class Channel:
         return next(iter(UNITS[self.quantity]))
 
 
-_CHANNEL_LIST = [
-    Channel("wheel_travel", "length",
-            "wheel-centre vertical displacement from the design position, bump +"),
-    Channel("toe", "angle", "toe angle, toe-in +"),
-    Channel("camber", "angle", "camber angle, top of the wheel outboard +"),
-    Channel("caster", "angle", "caster angle, steering axis top rearward +"),
-    Channel("kingpin_inclination", "angle", "kingpin inclination, steering axis top inboard +"),
-    Channel("scrub_radius", "length", "scrub radius, axis meets the ground inboard +"),
-    Channel("caster_trail", "length", "caster trail, axis meets the ground ahead +"),
-    Channel("wheel_centre_longitudinal", "length",
-            "wheel-centre displacement from the design position, forward +"),
-    Channel("wheel_centre_lateral", "length",
-            "wheel-centre displacement from the design position, outboard +"),
-    Channel("track_change", "length", "contact-point lateral displacement, outboard +"),
-    Channel("longitudinal_force", "force", "force the rig applies to the wheel, forward +"),
-    Channel("lateral_force", "force", "force the rig applies to the wheel, outboard +"),
-    Channel("vertical_force", "force", "force the rig applies to the wheel, up +"),
-    Channel("aligning_torque", "torque",
-            "moment about the vertical the rig applies to the wheel, toe-in sense +"),
-]
 #: known channels by name
-CHANNELS: dict[str, Channel] = {c.name: c for c in _CHANNEL_LIST}
+CHANNELS: dict[str, Channel] = {c.test: Channel(c.test, c.quantity, c.test_meaning)
+                                 for c in CHANNEL_LIST if c.test}
 
 
 @dataclass(frozen=True)
@@ -100,21 +83,9 @@ class LoadCase:
     meaning: str
 
 
-_LOAD_CASE_LIST = [
-    LoadCase("parallel_travel", "wheel_travel", ("toe",),
-             "both wheels of the axle moved up and down together (displacement control)"),
-    LoadCase("vertical_force", "vertical_force", ("wheel_travel",),
-             "vertical force at the contact patch"),
-    LoadCase("lateral_force", "lateral_force", ("toe",), "lateral force at the contact patch"),
-    LoadCase("longitudinal_force_patch", "longitudinal_force", ("wheel_centre_longitudinal",),
-             "longitudinal force at the contact patch (braking)"),
-    LoadCase("longitudinal_force_centre", "longitudinal_force", ("wheel_centre_longitudinal",),
-             "longitudinal force at the wheel centre (traction)"),
-    LoadCase("aligning_torque", "aligning_torque", ("toe",),
-             "moment about the vertical at the contact patch"),
-]
 #: supported load cases by name
-LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in _LOAD_CASE_LIST}
+LOAD_CASES: dict[str, LoadCase] = {c.name: LoadCase(c.name, c.test_input, c.test_required,
+                                                   c.meaning) for c in LOAD_CASE_LIST}
 
 #: a sweep may have at most this many monotonic branches (e.g. 0 -> +max -> -max -> 0)
 MAX_BRANCHES = 3

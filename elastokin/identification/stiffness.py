@@ -1,56 +1,10 @@
-"""Bushing-stiffness identification from K&C test data (beyond the reference paper).
+"""Bushing-stiffness identification from K&C test data (beyond the reference paper): per
+fitted bushing every direction's law becomes ``F(u) = scale * f(u) * (1 + cubic * u^2)``
+(translations and rotations share a scale and a cubic), fitted by least squares to the test
+curves (changes from the static state, weighted per curve), with 95 % intervals and
+identifiability. The method, the weighting and the statistics are in docs/stiffness.md.
 
-The paper ends where geometry stops helping: lateral and longitudinal behaviour are governed by
-bushing stiffness. This module fits bushing laws so that a model (the geometrically identified
-one in ``elastokin kc``) matches the K&C test data across every load case.
-
-**Parameter set.** For each fitted bushing, every direction's law becomes
-
-    F(u) = scale * f(u) * (1 + cubic * u^2)
-
-with ``f`` the config's law (Table 1) and ``u`` the deflection (mm, deg) incl. the preload
-deflection. The three translations share ``translation_scale`` (-) and ``translation_cubic``
-(1/mm^2), the three rotations ``rotation_scale`` and ``rotation_cubic`` (1/deg^2); a bushing
-datasheet's "radial/axial ratio" is kept from the config. ``cubic`` makes the law progressive
-(the secant stiffness at deflection u is ``1 + cubic * u^2`` times the scaled one;
-``progression = cubic^-1/2`` is the deflection at which it has doubled). Which of the four are
-fitted, and for which bushings, is ``kc_test.stiffness_identification`` in the config.
-
-Every fitted model keeps the loads its bushings carry at the design position (the measured,
-loaded state): changing a law changes its preload deflection, not the static equilibrium the
-CMM measured.
-
-**Residuals.** For every test file (load case) and channel (toe, camber, wheel-centre
-longitudinal and lateral displacement, and wheel travel under forces): the model minus the
-test at each test point, branch by branch (:func:`elastokin.rig.comparison.curve_residuals`), less
-its mean over the curve (a static offset is not a stiffness), divided by the curve's scale:
-with ``weighting: range`` the range of the test curve, never less than the rig's uncertainty
-(``residual_scale_deg`` / ``residual_scale_mm``), so that every chart counts alike; with
-``weighting: uncertainty`` that uncertainty alone; with ``weighting: residual`` the curve's
-own residual RMS at the previous fit (iteratively reweighted least squares from the range
-weights: maximum likelihood with an unknown error level per curve, so that curves no
-frictionless model follows - friction hysteresis - lose weight), refitted until no curve's
-scale changes by more than 5 % or ``reweighting_passes`` fits were made.
-
-**Fit.** ``scipy.optimize.least_squares`` (trust-region reflective, bounds), on ln(scale) and
-on the stiffening at a reference deflection of 1 mm or 1 deg (``cubic * 1^2``), forward
-differences with a 1e-3 step (far above the static solver's tolerance); the Jacobian's model
-runs spread over worker processes (same result for any number).
-
-**Uncertainty and identifiability.** At the solution, J the residual Jacobian (m residuals,
-n parameters): covariance ``s^2 (J^T J)^-1 * m / m_eff`` with ``s^2 = |r|^2 / (m - n)``, where
-``m_eff`` counts the independent residuals: model error and friction hysteresis are smooth
-along a curve, so each curve of n residuals with lag-1 autocorrelation rho is worth
-``n (1 - rho) / (1 + rho)`` (AR(1) effective sample size; white noise keeps m_eff = m);
-95 % intervals with Student's t on ``m_eff - n`` degrees of freedom. Also the condition number
-of J with unit-norm columns (collinearity of the parameters' effects) and the correlations.
-
-A parameter is **determined** when its 95 % half-width, as a stiffness effect, is at most
-``determined_within`` (default 10 %): for a scale, the relative half-width; for a cubic, the
-half-width times the largest deflection that bushing direction reaches in the load cases,
-squared (the uncertainty of the stiffening where the data are). Every parameter is fitted;
-those not determined are reported with a warning (fix them by leaving them out of
-``parameters``).
+Units: deflections mm and deg, loads N and N*mm; scales dimensionless, cubics 1/mm^2, 1/deg^2.
 """
 
 from __future__ import annotations

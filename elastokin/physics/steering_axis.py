@@ -1,32 +1,8 @@
 """The steering axis at every rig step: the instantaneous screw axis of the wheel part relative
-to the ground part under a small steering input, springs locked (pure numpy).
-
-Method (velocity-level, "instant axis"; docs/characteristics.md):
-
-1. Constraints of the joint skeleton at the step's part poses: every ideal joint; every bushing
-   as its ``ideal_joint`` frozen at its current deflection (its two sleeve frames keep their
-   relative position and orientation in the joint's constrained directions, as Exudyn's
-   generic joint with that offset would); every link as a constant distance.
-2. The steering input is released: a ``rack`` joint frees its travel along its axis (the
-   rack is moved); without a rack, the one link on the wheel part (the tie rod or toe link)
-   is removed. Any other case (no such link, or several) has no steering element we can
-   name: the axis is NaN.
-3. The travel is held by locking every coil spring's length, as ADAMS/Car's instant-axis method
-   ("locks the spring travel"). Then the wheel part has one degree of freedom left (idle
-   spins of links and struts do not move it): its twist, the null space of the constraint
-   Jacobian restricted to the wheel part, is the steering motion, and its screw axis is the
-   steering axis. When the wheel part keeps 0 or more than 1 degree of freedom (no spring,
-   or a spring that does not lock the travel), or the one motion left does not move the
-   steering input (a spring that locks the steering instead of the travel), the axis is NaN,
-   never a guess.
-4. Cost: all steps at once (stacked numpy arrays): a part held only by two ball joints (an arm
-   between a bushing and a ball joint) is replaced by the distance it keeps (exact), and the
-   null space comes from a QR factorisation (SVD where rows are dependent). About 15 us per
-   step on the pseudo-McPherson.
-
-With ideal joints this is exactly the classic construction: the line through the two ball
-joints of a double wishbone; for a McPherson strut the line through the top mount that meets
-both lower-arm lines (through the lower ball joint, or the virtual one of two arms).
+to the ground part under a small steering input, springs locked (pure numpy, all steps at
+once). The method, its cases and its cost are in docs/characteristics.md ("The steering axis");
+the skeleton of a suspension (what is released, what is locked) is built by
+:func:`elastokin.rig.steering.steering_skeleton`.
 
 Units: mm, rad inside; the config frame. A twist is ``(omega, v)``: angular velocity (rad per
 unit input) and the velocity (mm per unit input) of the part's reference point.
@@ -38,11 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elastokin.config.suspension import Suspension
-from elastokin.physics.joints import CONSTRAINED
-
-__all__ = ["SteeringAxes", "SteeringSkeleton", "steering_axes", "steering_axes_from_poses",
-           "steering_skeleton"]
+__all__ = ["SkeletonElement", "SteeringAxes", "SteeringSkeleton", "eliminate_links",
+           "steering_axes", "steering_axes_from_poses"]
 
 #: length (mm) scaling the rotational unknowns so that the Jacobian's columns are comparable
 _L = 1000.0
@@ -53,7 +26,7 @@ ONE_DOF_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
-class _Element:
+class SkeletonElement:
     """One constraint of the skeleton at the design position."""
 
     kind: str  # "joint" (flags in a frame) or "distance"
@@ -74,66 +47,18 @@ class SteeringSkeleton:
 
     ground: str
     wheel_part: str
-    elements: tuple[_Element, ...]
+    elements: tuple[SkeletonElement, ...]
     steering: str  # what was released, for the record
     reason: str | None = None
     eliminated: tuple[str, ...] = ()  # two-ball-joint parts replaced by distances
 
 
-def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
-    """Constraint skeleton of ``suspension`` for the steering axis: steering released,
-    springs locked."""
-    s = suspension
-    wheel = s.wheel.part
-    elements: list[_Element] = []
-    racks = [j for j in s.joints if j.kind == "rack"]
-    steer_links = [lk for lk in s.links if wheel in lk.parts]
-    reason = None
-    if racks:
-        steering = "rack travel of " + ", ".join(f"'{j.name}'" for j in racks)
-        released_links: set[str] = set()
-    elif len(steer_links) == 1:
-        steering = f"link '{steer_links[0].name}' (tie rod) released"
-        released_links = {steer_links[0].name}
-    else:
-        steering = "none"
-        released_links = set()
-        reason = ("no steering rack and " + ("no link" if not steer_links else
-                  f"{len(steer_links)} links ({', '.join(lk.name for lk in steer_links)})")
-                  + f" on the wheel part '{wheel}': the steering input (the one tie rod or "
-                  "toe link to release) is not defined")
-    if not s.springs:
-        reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
-                            "computed with the springs locked)")
-    for j in s.joints:
-        flags = list(j.constrained)
-        shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
-            (np.asarray(j.part_shift_mm[0], float), np.asarray(j.part_shift_mm[1], float))
-        frame = np.asarray(j.frame, float)
-        points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
-                  j.position_mm + shift1)
-        if j.kind == "rack":
-            flags[2] = 0  # the rack moves along its axis (the joint frame's z)
-            elements.append(_Element("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
-                                     released=True))
-        elements.append(_Element("joint", j.parts, points, frame, tuple(flags)))
-    for b in s.bushings:
-        elements.append(_Element("joint", b.parts, (b.position_mm, b.position_mm),
-                                 np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
-    for lk in s.links:
-        elements.append(_Element("distance", lk.parts, lk.points_mm,
-                                 released=lk.name in released_links))
-    for sp in s.springs:  # locked: the travel is held
-        elements.append(_Element("distance", sp.parts, sp.seats_mm))
-    elements, eliminated = _eliminate_links(elements, s.ground, wheel)
-    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
-                            tuple(eliminated))
-
-
 _BALL = (1, 1, 1, 0, 0, 0)
 
 
-def _eliminate_links(elements: list[_Element], ground: str, wheel: str):
+def eliminate_links(elements: list[SkeletonElement], ground: str, wheel: str):
+    """Every part held only by two ball joints (an arm between a bushing and a ball joint,
+    neither the ground nor the wheel part) replaced by the distance it keeps (exact)."""
     """Replace every part held by exactly two ball joints (a spherical joint, or a bushing
     whose ideal joint is spherical) and nothing else, e.g. a lower arm between a bushing and
     a ball joint, by the distance it keeps between the parts at its ends. Exact at the
@@ -158,7 +83,7 @@ def _eliminate_links(elements: list[_Element], ground: str, wheel: str):
         eliminated.append(part)
         # a ball joint makes the velocities of its two parts equal at its second part's
         # marker (see translation_row), so the part keeps the distance between those points
-        out.append(_Element("distance", ends, (ei.points[1 - si], ej.points[1 - sj]),
+        out.append(SkeletonElement("distance", ends, (ei.points[1 - si], ej.points[1 - sj]),
                             anchors=((ei.parts[1], ei.points[1]), (ej.parts[1], ej.points[1]))))
     return [e for k, e in enumerate(out) if k not in used], eliminated
 
@@ -385,7 +310,7 @@ def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
 
 def steering_axes_from_poses(skeleton: SteeringSkeleton, poses: list,
                              wheel_centre: np.ndarray) -> SteeringAxes:
-    """:func:`steering_axes` from one :class:`elastokin.model.PartPoses` per step (``None``
+    """:func:`steering_axes` from one :class:`elastokin.physics.states.PartPoses` per step (``None``
     entries, e.g. states without poses, give NaN rows)."""
     n = len(poses)
     have = [i for i, p in enumerate(poses) if p is not None]

@@ -13,8 +13,14 @@ import warnings
 import numpy as np
 
 from elastokin.config.suspension import Suspension
+from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.states import StepState
-from elastokin.physics.steering_axis import steering_axes_from_poses, steering_skeleton
+from elastokin.physics.steering_axis import (
+    SkeletonElement,
+    SteeringSkeleton,
+    eliminate_links,
+    steering_axes_from_poses,
+)
 from elastokin.physics.steering_geometry import (
     caster_deg,
     caster_trail_mm,
@@ -22,6 +28,56 @@ from elastokin.physics.steering_geometry import (
     kingpin_inclination_deg,
     scrub_radius_mm,
 )
+
+
+def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
+    """Constraint skeleton of ``suspension`` for the steering axis: steering released,
+    springs locked."""
+    s = suspension
+    wheel = s.wheel.part
+    elements: list[SkeletonElement] = []
+    racks = [j for j in s.joints if j.kind == "rack"]
+    steer_links = [lk for lk in s.links if wheel in lk.parts]
+    reason = None
+    if racks:
+        steering = "rack travel of " + ", ".join(f"'{j.name}'" for j in racks)
+        released_links: set[str] = set()
+    elif len(steer_links) == 1:
+        steering = f"link '{steer_links[0].name}' (tie rod) released"
+        released_links = {steer_links[0].name}
+    else:
+        steering = "none"
+        released_links = set()
+        reason = ("no steering rack and " + ("no link" if not steer_links else
+                  f"{len(steer_links)} links ({', '.join(lk.name for lk in steer_links)})")
+                  + f" on the wheel part '{wheel}': the steering input (the one tie rod or "
+                  "toe link to release) is not defined")
+    if not s.springs:
+        reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
+                            "computed with the springs locked)")
+    for j in s.joints:
+        flags = list(j.constrained)
+        shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
+            (np.asarray(j.part_shift_mm[0], float), np.asarray(j.part_shift_mm[1], float))
+        frame = np.asarray(j.frame, float)
+        points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
+                  j.position_mm + shift1)
+        if j.kind == "rack":
+            flags[2] = 0  # the rack moves along its axis (the joint frame's z)
+            elements.append(SkeletonElement("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
+                                     released=True))
+        elements.append(SkeletonElement("joint", j.parts, points, frame, tuple(flags)))
+    for b in s.bushings:
+        elements.append(SkeletonElement("joint", b.parts, (b.position_mm, b.position_mm),
+                                 np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
+    for lk in s.links:
+        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
+                                 released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm))
+    elements, eliminated = eliminate_links(elements, s.ground, wheel)
+    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
+                            tuple(eliminated))
 
 
 class SteeringAxisWarning(UserWarning):

@@ -1,35 +1,14 @@
 """Tolerance and DOE studies: how assembly clearance spreads the K&C characteristics.
 
 A study samples the assembly-clearance shifts of every joint that the config's
-``measurements.joints`` gives a clearance (each within its dL_max [1]), builds the as-built
-suspension of each sample (:func:`elastokin.synthesize.as_built`: the nominal design preloads,
-joints shifted), runs the K&C load cases on it and reports the distributions of the summary
-characteristics and which joints matter.
-
-Sampling (mm, deg; frames named per joint). A sample is a point ``u`` of the unit cube
-[0, 1)^d drawn by Latin hypercube (``lhs``), scrambled Sobol sequence (``sobol``) or plain Monte
-Carlo (``mc``), from ``seed`` alone; each joint takes the next 2 (bushing) or 3 (other joint)
-coordinates of ``u`` and maps them uniformly onto its clearance region of radius R = dL_max:
-
-- bushing (inner sleeve bolted through a hole): the disc normal to the housing axis,
-  r = R sqrt(u1), phi = 2 pi u2, shift = r (cos phi x_b + sin phi y_b) with x_b, y_b the
-  bushing frame's radial axes (``Bushing.frame[:, 0:2]``, config frame);
-- other joint (bolted ball joint): the ball, r = R u1^(1/3), cos(theta) = 1 - 2 u2,
-  phi = 2 pi u3, shift = r (sin theta cos phi, sin theta sin phi, cos theta) in the joint's
-  frame (``Joint.frame``; the config frame for a spherical joint).
-
-Both maps are uniform in area / volume. The study's regression inputs are the shift components
-in those directions (``J1.x``, ``J1.y``; ``J8.x``, ``J8.y``, ``J8.z``).
-
-Sensitivity (see :func:`joint_sensitivity`): standardised regression coefficients (SRC) of a
-characteristic on the shift components; a joint's figure is the sum of the squared SRCs of its
-components, i.e. its share of the characteristic's variance explained linearly.
-
-Execution: :func:`evaluate_sample` is a pure function of a plain, picklable job description and
-one sample's shifts, returning a plain dict (a failed solve is recorded, not raised). It runs
-serially or on ``dask.distributed`` workers (each worker process resolves the config and builds
-its own Exudyn models). Every finished sample is appended to ``samples.jsonl``; a rerun of the
-same study skips the samples already there.
+``measurements.joints`` gives a clearance (each within its dL_max [1];
+:mod:`elastokin.studies.doe_sampling`), builds the as-built suspension of each sample (the
+nominal design preloads, joints shifted), runs the K&C load cases on it and reports the
+distributions of the summary characteristics and which joints matter
+(:mod:`elastokin.studies.doe_statistics`). :func:`evaluate_sample` is a pure function of a
+plain, picklable job and one sample's shifts, returning a plain dict (a failed solve is
+recorded, not raised): it runs serially or on dask workers (:mod:`elastokin.studies.
+doe_runner`). Sampling maps, sensitivity and outputs: docs/doe.md. Shifts mm, config frame.
 """
 
 from __future__ import annotations
@@ -41,7 +20,7 @@ import numpy as np
 
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
-from elastokin.config.variants import DesignState, ModelVariant
+from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError
 from elastokin.mbs.design import build_model, design_state
 from elastokin.rig.characteristics import summary_figures
@@ -101,9 +80,7 @@ def _context(job: dict):
 def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design):
     """The compliant Exudyn model of the as-built suspension (nominal design preloads, joints
     shifted by ``shifts``, mm, config frame), built as ``elastokin synthesize`` builds it."""
-    ab = as_built(suspension, shifts, design)
-    return build_model(ModelVariant("as-built", ab.suspension,
-                                    DesignState(ab.spring_force_N, ab.bushing_preload)))
+    return build_model(as_built(suspension, shifts, design).variant())
 
 
 def travel_sweep(model, label: str = "sample", spec=None):

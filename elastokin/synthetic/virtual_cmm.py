@@ -49,9 +49,17 @@ from elastokin.config.schema import (
     SyntheticSpec,
 )
 from elastokin.config.suspension import Suspension
+from elastokin.config.variants import (
+    DesignState,
+    ModelVariant,
+    relabelled,
+    with_joint_shifts,
+)
 from elastokin.errors import ConfigError
 from elastokin.formats.cmm import write_points
+from elastokin.mbs.design import build_model, design_state
 from elastokin.physics.pose import mark_layout_warnings, pose_error_gain
+from elastokin.rig.load_cases import static_equilibrium
 
 #: 95 % quantile of the 3-D distance of an isotropic unit Gaussian (chi, 3 dof)
 CHI3_95 = 2.7955
@@ -141,8 +149,7 @@ class AsBuilt:
     (``Joint.part_shift_mm``); ``bushing_preload`` (N, N*mm, bushing frame) is each bushing's
     load at the design position with its inner sleeve shifted; ``spring_force_N`` the design
     spring preloads; ``housing_mm`` each bushing's inner-sleeve housing centre (config frame,
-    design position). Build the model with
-    ``SuspensionModel(suspension, options, bushing_preload=..., spring_force_N=...)``."""
+    design position). :meth:`variant` is the model variant to build."""
 
     suspension: Suspension
     shifts_mm: dict[str, np.ndarray]
@@ -150,14 +157,17 @@ class AsBuilt:
     spring_force_N: dict[str, float]
     housing_mm: dict[str, np.ndarray]
 
+    def variant(self, label: str = "as_built") -> ModelVariant:
+        """The as-built model: these joints and preloads."""
+        return ModelVariant(label, self.suspension,
+                            DesignState(self.spring_force_N, self.bushing_preload))
+
 
 def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None) -> AsBuilt:
     """The as-built suspension for given clearance shifts (mm, config frame, keyed by joint or
     bushing name; see :func:`clearance_shifts`). A bushing's inner sleeve shifted by delta
     changes its design deflection by -delta (outer relative to inner); a joint's shift moves
     its attachment on the ``bolted`` part."""
-    from elastokin.mbs.model import design_state
-
     s = suspension
     m = s.measurements
     design = design if design is not None else design_state(s)
@@ -172,29 +182,23 @@ def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None)
             u = u0.copy()
             u[:3] -= sign * b.frame.T @ shifts[b.name]
             preload[b.name] = np.array([law(x) for law, x in zip(b.laws, u)])
-    joints = []
+    attachments = {}
     for j in s.joints:
         if j.name in shifts:
             bolted = m.joints[j.name].bolted
             if bolted is None:
                 raise ConfigError(f"{s.source}: key 'measurements.joints.{j.name}': a "
                                   "clearance needs 'bolted: <part>' (the side with the hole)")
-            k = j.parts.index(bolted)
             part_shift = [np.zeros(3), np.zeros(3)]
-            part_shift[k] = np.asarray(shifts[j.name], float)
-            j = dataclasses.replace(j, part_shift_mm=tuple(part_shift))
-        joints.append(j)
-    built = dataclasses.replace(s, joints=tuple(joints), source=f"{s.source} (as-built)")
+            part_shift[j.parts.index(bolted)] = np.asarray(shifts[j.name], float)
+            attachments[j.name] = tuple(part_shift)
+    built = relabelled(with_joint_shifts(s, attachments), f"{s.source} (as-built)")
     return AsBuilt(built, dict(shifts), preload, dict(design.spring_force_N), housing)
 
 
 def _loaded_poses(built: AsBuilt):
     """The as-built suspension's part poses in its static equilibrium under the design load."""
-    from elastokin.mbs.model import ModelOptions, SuspensionModel
-    from elastokin.rig.load_cases import static_equilibrium
-
-    model = SuspensionModel(built.suspension, ModelOptions(), bushing_preload=built.bushing_preload,
-                            spring_force_N=built.spring_force_N)
+    model = build_model(built.variant())
     static_equilibrium(model)
     return model.part_poses()
 
@@ -361,8 +365,6 @@ def _write_truth(path: Path, s: Suspension, seed: int, syn: SyntheticSpec, sigma
 def synthesize(suspension: Suspension, seed: int | None = None,
                folder: Path | None = None) -> list[Path]:
     """Make the as-built suspension and write its virtual CMM files; returns the paths."""
-    from elastokin.mbs.model import design_state
-
     s = suspension
     m = s.measurements
     if m is None:
