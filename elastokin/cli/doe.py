@@ -92,9 +92,9 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         fail(f"--workers: must be at least 1, got {workers}")
     workers = workers or _cores()
     try:
+        _check_out(out_dir, STORE)  # before any solving
         suspension = load_suspension_with_rig(config_path, rig_path)
         study = study_mod.make_study(suspension, samples, method, seed, load_cases)
-        _check_out(out_dir, STORE)
         store = SampleStore(out_dir / STORE, study.header(), restart)
         if restart:
             for old in out_dir.glob("doe*"):

@@ -101,6 +101,23 @@ def with_joint_shifts(suspension: Suspension,
     return dataclasses.replace(suspension, joints=joints)
 
 
+def with_hardpoints(suspension: Suspension, hardpoints: Mapping[str, np.ndarray]) -> Suspension:
+    """``suspension`` with the named hardpoints moved (mm, config frame): every joint, axis
+    given by two hardpoints, bushing, spring seat and the wheel that refers to them follows
+    (the config is resolved again with the new coordinates). Apply it to the template first:
+    other overrides (laws, kinematic, joint shifts) are not carried over."""
+    from elastokin.config.schema import SuspensionFile
+    from elastokin.config.suspension import Resolver
+
+    unknown = sorted(set(hardpoints) - set(suspension.hardpoints))
+    if unknown:
+        raise ConfigError(f"{suspension.source}: no hardpoint {', '.join(unknown)}")
+    resolver = Resolver(SuspensionFile.model_validate(suspension.raw), suspension.source)
+    resolver.hardpoints.update({k: np.asarray(v, float) for k, v in hardpoints.items()})
+    moved = resolver.resolve(suspension.sha256, suspension.raw)
+    return dataclasses.replace(moved, rig=suspension.rig, rig_source=suspension.rig_source)
+
+
 def relabelled(suspension: Suspension, source: str) -> Suspension:
     """The same suspension under another source name (what error messages call it)."""
     return dataclasses.replace(suspension, source=source)

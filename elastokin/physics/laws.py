@@ -10,7 +10,7 @@ The same law is written as a sum of hinge functions,
 symbolic (C++-speed) user function.
 
 :class:`ProgressiveLaw` is the family fitted by the stiffness identification
-(:mod:`elastokin.stiffness`): a config law scaled and made progressive,
+(:mod:`elastokin.identification.stiffness`): a config law scaled and made progressive,
 ``F(u) = scale * f(u) * (1 + cubic * u^2)`` (``cubic`` in 1/mm^2 or 1/deg^2), smooth in its
 parameters and evaluated exactly (no tabulation).
 """

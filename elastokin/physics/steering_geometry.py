@@ -1,6 +1,6 @@
 """Wheel and steering-axis characteristics (pure numpy; ISO 8855 / SAE J670 names).
 
-Like :mod:`elastokin.geometry`, every function takes vectors in one frame (the config frame)
+Like :mod:`elastokin.physics.wheel`, every function takes vectors in one frame (the config frame)
 together with the unit vectors ``forward``, ``outboard`` (away from the vehicle centreline on
 this wheel's side) and ``up`` of that frame, so the same code serves ISO 8855 (x forward,
 y left) and ADAMS/Car (x rearward, y right) frames and both sides of the car. Points in mm,
@@ -156,7 +156,7 @@ def screw_axis_from_poses(R1, t1, R2, t2, orient=None, near=None) -> ScrewAxis:
     """Screw axis of a body's motion from pose 1 to pose 2.
 
     A pose ``(R, t)`` maps body coordinates to the frame: ``x = R x_body + t`` (as
-    :func:`elastokin.pose.fit_pose` returns). The relative motion is ``R = R2 R1^T``,
+    :func:`elastokin.physics.pose.fit_pose` returns). The relative motion is ``R = R2 R1^T``,
     ``t = t2 - R t1``. For the steering axis, take the knuckle's poses before and after a small
     steer input with ``orient=up``; ``orient`` and ``near`` as in :func:`screw_axis`.
     """

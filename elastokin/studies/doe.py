@@ -46,8 +46,8 @@ STORE_FORMAT = 1
 def study_job(suspension: Suspension, design, load_cases: str = "all") -> dict:
     """Everything a worker needs to evaluate samples, as plain picklable data: the config
     mapping (resolved again on the worker), the nominal design preloads (computed once: the
-    clearances do not change them, see :func:`elastokin.synthesize.as_built`) and the load
-    cases."""
+    clearances do not change them, see :func:`elastokin.synthetic.virtual_cmm.as_built`) and
+    the load cases."""
     if load_cases not in LOAD_CASES:
         raise ConfigError(f"--load-cases: expected one of {', '.join(LOAD_CASES)}, "
                           f"got '{load_cases}'")

@@ -3,8 +3,9 @@
 The paper's test data do not exist here, so the case study's rig data are SYNTHETIC, made from
 the config's ``kc_test.synthetic`` section:
 
-1. the **as-built** suspension of the virtual CMM (:func:`elastokin.synthesize.as_built`, with
-   the same seed, hence the same assembly-clearance shifts the CMM files were made from);
+1. the **as-built** suspension of the virtual CMM
+   (:func:`elastokin.synthetic.virtual_cmm.as_built`, with the same seed, hence the same
+   assembly-clearance shifts the CMM files were made from);
 2. **bushings that differ from the config's laws** (Table 1): per bushing, a scale on the
    translational and rotational rates and a progressive (stiffening) law
    ``F = scale * k * v * (1 + (v / progression)^2)`` (k the config's rate at zero, v the
