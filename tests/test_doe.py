@@ -136,6 +136,7 @@ def test_doe_travel_matches_the_kc_rig(case, case_design):
         steer_amplitude_deg(parallel_travel(model, "kc")), abs=1e-8)
 
 
+@pytest.mark.slow  # starts a dask LocalCluster of 2 worker processes (about 10 s)
 def test_serial_and_local_cluster_give_identical_results(case_path, tmp_path):
     serial, dask = tmp_path / "serial", tmp_path / "dask"
     r1 = run_doe(case_path, serial, "--samples", "8", "--workers", "1")
@@ -166,6 +167,7 @@ def _huge_j8_clearance(data):
         "hole_mm": 120.0, "bolt_mm": 10.0, "inner_bore_mm": 120.0}
 
 
+@pytest.mark.slow  # a dask LocalCluster too
 def test_failed_samples_are_recorded_and_reported(case_path, tmp_path):
     """A real failed solve (absurd clearance): recorded with its error, the study completes,
     exit code 3, serially and on a LocalCluster alike."""
