@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -56,7 +56,6 @@ class ModelVariant:
     suspension: Suspension
     preloads: DesignState | None = None
     friction: BallJointFriction | None = None
-    notes: dict = field(default_factory=dict)
 
     @property
     def kinematic(self) -> bool:

@@ -417,8 +417,3 @@ class SuspensionModel:
             "kinematic": self.suspension.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
         }
-
-
-def exudyn_version() -> str:
-    """The Exudyn version models are built with."""
-    return EXUDYN_VERSION

@@ -18,6 +18,7 @@ The result files are written by :mod:`elastokin.report`.
 
 from __future__ import annotations
 
+import pickle
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
@@ -26,7 +27,7 @@ import numpy as np
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import hidden_stiffness
 from elastokin.config.suspension import Suspension
-from elastokin.config.variants import DesignState, ModelVariant, kinematic
+from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ConfigError
 from elastokin.formats.kc_test_sweeps import read_test_sweeps
 from elastokin.identification.geometric import Identification
@@ -132,13 +133,17 @@ def model_variants(suspension: Suspension, ident: Identification | None = None
 def preloads(variants: dict[str, ModelVariant]) -> dict[str, ModelVariant]:
     """Step ``preloads``: every variant with its design preloads (solved once per distinct
     geometry: a kinematic variant shares its template's)."""
-    solved: dict[str, DesignState] = {}
+    solved: dict[bytes, DesignState] = {}
     out = {}
     for label, v in variants.items():
-        key = v.suspension.source + v.suspension.sha256 + repr(v.suspension.hardpoints)
-        if v.preloads is None and key not in solved:
+        if v.preloads is not None:
+            out[label] = v
+            continue
+        # the design state is that of the compliant suspension (mbs.design.design_state)
+        key = pickle.dumps(replace(compliant(v.suspension), kinematic=False))
+        if key not in solved:
             solved[key] = design_state(v.suspension)
-        out[label] = v if v.preloads is not None else replace(v, preloads=solved[key])
+        out[label] = replace(v, preloads=solved[key])
     return out
 
 
