@@ -39,3 +39,41 @@ def test_slope_window():
     assert slope(x, y, (-50, 50)) == pytest.approx(expected)
     with pytest.raises(ValueError):
         slope([1.0], [2.0])
+
+
+def test_windowed_slope_is_symmetric_whatever_the_grid():
+    """y = a x + b x^2: over a symmetric window the even term has no slope, so the windowed
+    slope is a on any grid; a plain fit over the samples inside the window is biased when
+    the grid stops short of one end (the rig's pad grid: -49.09 ... +49.96 mm)."""
+    from elastokin.physics.wheel import windowed_slope
+
+    a, b = -0.004, 3e-4  # deg/mm, deg/mm^2
+    x = np.r_[np.linspace(-90.0, -49.09, 40), np.linspace(-48.2, 49.96, 117), 51.0, 90.0]
+    y = a * x + b * x ** 2
+    biased = slope(x, y, (-50.0, 50.0))
+    assert abs(biased / a - 1.0) > 0.05  # the plain fit inside the window: 7 % off here
+    # linear interpolation between samples ~1.3 mm apart adds b h^2 / 8 between nodes, not
+    # exactly symmetric about 0: 1.3e-5 of the slope measured, 7e-5 on the short data
+    assert windowed_slope(x, y, 50.0) == pytest.approx(a, rel=2e-4)
+    # data short of the window: the largest symmetric window they cover
+    short = np.abs(x) <= 30.0
+    assert windowed_slope(x[short], y[short], 50.0) == pytest.approx(a, rel=2e-4)
+
+
+def test_gradients_leave_the_approach_out():
+    """Summary gradients use the measured rows: an approach with another slope (the path from
+    the design position to rebound) must not bend bump camber."""
+    from elastokin.rig.characteristics import summary_figures
+    from elastokin.rig.sweeps import Sweep
+
+    stroke = np.linspace(-90.0, 90.0, 19)
+    approach = np.linspace(-10.0, -80.0, 8)
+    travel = np.r_[approach, stroke]
+    camber = np.r_[0.5 * approach, -0.02 * stroke]  # deg: the stroke's slope is -0.02 deg/mm
+    branch = np.array(["approach"] * approach.size + ["stroke"] * stroke.size)
+    sw = Sweep("m", "parallel_travel", {"branch": branch, "wheel_travel_mm": travel,
+                                        "camber_deg": camber, "toe_deg": 0.001 * travel,
+                                        "pad_z_mm": travel})
+    figures = summary_figures([sw], False)
+    assert figures["bump_camber_deg_per_m"] == pytest.approx(-20.0, rel=1e-12)
+    assert figures["bump_steer_deg_per_m"] == pytest.approx(1.0, rel=1e-12)

@@ -20,6 +20,8 @@ from elastokin.mbs.solve import simulation_settings, solve_path
 
 #: the support holding the contact patch height (design balancing, assembly check)
 PATCH_SUPPORT = "design:contact_patch"
+#: secant steps at most when balancing the spring preload
+BALANCE_ITERATIONS = 20
 HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
@@ -64,22 +66,24 @@ def design_state(suspension: Suspension) -> DesignState:
     if d.balance_spring is None:
         _, loads = solve(0.0)
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
-    p1, loads = _balance_spring(s, solve, ideal)
+    p1, loads = _balance_spring(s, solve)
     springs[d.balance_spring] = float(p1)
     if ideal:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
 
 
-def _balance_spring(s: Suspension, solve, ideal: bool):
+def _balance_spring(s: Suspension, solve):
     """The balanced spring's preload at which the contact patch carries the wheel load
-    (secant method; exact in one step when the structure is linear in it)."""
+    (secant method, iterated until the pad load is within 1e-6 of the wheel load: one step
+    when the structure is linear in the preload, more when it is not, e.g. a spring on a
+    skewed upper arm)."""
     d = s.design
     w = d.wheel_load_N
     p0, p1 = 0.0, w
     r0, _ = solve(p0)
     r1, loads = solve(p1)
-    for _ in range(1 if ideal else 20):
+    for _ in range(BALANCE_ITERATIONS):
         if abs(r1 - r0) < 1e-9:
             raise ModelError(f"{s.source}: design.balance_spring: the force of spring "
                              f"'{d.balance_spring}' does not reach the wheel: cannot balance")

@@ -51,3 +51,22 @@ def slope(x, y, window=None) -> float:
     if x.size < 2 or np.ptp(x) == 0:
         raise ValueError("need at least two distinct points to fit a slope")
     return float(np.polyfit(x, y, 1)[0])
+
+
+def windowed_slope(x, y, half_width: float) -> float:
+    """Least-squares slope dy/dx over the symmetric window |x| <= ``half_width`` exactly: y
+    interpolated linearly (x sorted) on an even grid spanning the window, as many points as the
+    data have inside it (at least 3). A grid that stops short of one end (the rig's pad steps
+    give wheel travel of -49.1 ... +49.96 mm for a +-50 mm window) would bias the slope of a
+    curved characteristic. When the data do not reach +-``half_width``, the largest symmetric
+    window they cover is used."""
+    x = np.asarray(x, float)
+    y = np.asarray(y, float)
+    order = np.argsort(x)
+    xs, ys = x[order], y[order]
+    if xs.size < 2 or not xs[0] < 0.0 < xs[-1]:
+        raise ValueError("need points on both sides of 0 to fit a slope over a window about 0")
+    w = min(float(half_width), -float(xs[0]), float(xs[-1]))
+    n = max(3, int(np.count_nonzero(np.abs(xs) <= w)))
+    grid = np.linspace(-w, w, n)
+    return slope(grid, np.interp(grid, xs, ys))

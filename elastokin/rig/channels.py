@@ -200,8 +200,9 @@ FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 @dataclass(frozen=True)
 class Characteristic:
     """A summary figure of one model (summary.json ``models.<label>``): a least-squares
-    slope ``scale * dy/dx`` of ``y`` against ``x`` over ``load_case`` (within ``window``
-    of x when given), or (no load case) a figure the rig computes itself."""
+    slope ``scale * dy/dx`` of ``y`` against ``x`` over the measured rows of ``load_case``
+    (no approach; within ``window`` of x when given), or (no load case) a figure the rig
+    computes itself."""
 
     name: str
     label: str
@@ -226,11 +227,13 @@ CHARACTERISTIC_LIST = (
     Characteristic("steer_amplitude_deg", "steer amplitude over the travel stroke", "deg",
                    ".4f", "max - min toe over the measured stroke"),
     Characteristic("bump_steer_deg_per_m", "bump steer (+-50 mm)", "deg/m", ".3f",
-                   "least-squares slope of toe vs wheel travel over +-50 mm",
+                   "least-squares slope of toe vs wheel travel over exactly +-50 mm of the "
+                   "stroke (toe interpolated on an even travel grid)",
                    "parallel_travel", "wheel_travel_mm", "toe_deg", 1000.0,
                    (-BUMP_STEER_WINDOW_MM, BUMP_STEER_WINDOW_MM)),
     Characteristic("bump_camber_deg_per_m", "bump camber", "deg/m", ".3f",
-                   "least-squares slope of camber vs wheel travel over the whole sweep",
+                   "least-squares slope of camber vs wheel travel over the measured stroke "
+                   "(loading and unloading)",
                    "parallel_travel", "wheel_travel_mm", "camber_deg", 1000.0),
     Characteristic("wheel_rate_N_per_mm", "wheel rate", "N/mm", ".2f",
                    "least-squares slope of vertical force vs wheel travel",
@@ -264,7 +267,7 @@ CHARACTERISTIC_LIST = (
                    "toe_deg", 1.0e6),
 )
 CHARACTERISTICS: dict[str, Characteristic] = {c.name: c for c in CHARACTERISTIC_LIST}
-#: the characteristics fitted over a whole sweep (summary.json; a window where given)
+#: the characteristics fitted over a sweep's measured rows (summary.json)
 GRADIENTS = {c.name: c for c in CHARACTERISTIC_LIST if c.load_case is not None
              and c.name != "bump_steer_deg_per_m"}
 #: steering-axis columns reported at the static state

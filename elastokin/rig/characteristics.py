@@ -13,7 +13,7 @@ import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.physics.states import StepState
-from elastokin.physics.wheel import camber_deg, slope, toe_deg
+from elastokin.physics.wheel import camber_deg, slope, toe_deg, windowed_slope
 from elastokin.rig.channels import (
     CHARACTERISTICS,
     GRADIENTS,
@@ -64,17 +64,24 @@ def steer_amplitude_deg(sweep: Sweep) -> float:
 
 
 def bump_steer_deg_per_m(sweep: Sweep) -> float:
-    """Toe change per wheel travel, least squares over the bump-steer window (deg/m)."""
+    """Toe change per wheel travel, least squares over exactly the symmetric bump-steer window
+    of the stroke (deg/m; :func:`elastokin.physics.wheel.windowed_slope`)."""
     c = CHARACTERISTICS["bump_steer_deg_per_m"]
-    return c.scale * slope(sweep.stroke(c.x), sweep.stroke(c.y), c.window)
+    return c.scale * windowed_slope(sweep.stroke(c.x), sweep.stroke(c.y), c.window[1])
+
+
+def measured(sweep: Sweep, name: str) -> np.ndarray:
+    """``name`` on the measured rows of a sweep: every branch but the ``approach`` from the
+    design position to the start of the measured stroke (or to the first force)."""
+    return sweep.columns[name][sweep.columns["branch"] != "approach"]
 
 
 def summary_figures(sweeps: list[Sweep], kinematic: bool,
                     compliance: np.ndarray | None = None) -> dict:
     """The summary figures of one model (None when the load case was not run): steer
     amplitude, bump steer, the steering axis at the static state (design pad height, design
-    wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` and the
-    compliance matrix."""
+    wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` (over the
+    measured rows, :func:`measured`) and the compliance matrix."""
     travel = find_sweep(sweeps, "parallel_travel")
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
@@ -85,7 +92,7 @@ def summary_figures(sweeps: list[Sweep], kinematic: bool,
     for name, g in GRADIENTS.items():
         sw = find_sweep(sweeps, g.load_case)
         ok = sw is not None and g.x in sw.columns and g.y in sw.columns
-        out[name] = g.scale * slope(sw.columns[g.x], sw.columns[g.y]) if ok else None
+        out[name] = g.scale * slope(measured(sw, g.x), measured(sw, g.y)) if ok else None
     if compliance is not None:
         out["compliance_matrix"] = {
             "rows": "wheel-centre displacement x y z [mm], rotation x y z [deg]",

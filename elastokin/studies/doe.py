@@ -86,8 +86,8 @@ def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design
 def travel_sweep(model, label: str = "sample", spec=None):
     """Parallel wheel travel as the K&C job's (same stroke, same columns), the approach from
     the design position solved in steps of at most :data:`APPROACH_STEP_MM` and left out, no
-    unloading: the sweep holds the stroke only (rebound to bump), so a gradient over the whole
-    sweep (bump camber) is fitted over the stroke."""
+    unloading: the sweep holds the stroke only (rebound to bump), as the K&C job's gradients
+    use (bump camber over the measured rows: a frictionless model's return is its stroke)."""
     spec = (spec or model.suspension.rig.parallel_travel).model_copy(update={"unloading": False})
     drive = parallel_travel_drive(model.suspension, spec, APPROACH_STEP_MM,
                                   record_approach=False)
