@@ -245,6 +245,11 @@ def test_identify_cli_contract_and_identified_config_runs(tmp_path, case_path, c
     kc_out = tmp_path / "kc"
     assert run("kc", "--config", out / "identified.yaml", "--out", kc_out,
                "--quiet").exit_code == 0
+    # ... and so is initial.yaml, whose spring seats sit off its strut axis (the housing
+    # centre moved J4): its kinematic model used to diverge (issue 15)
+    result = run("kc", "--config", out / "initial.yaml", "--out", tmp_path / "kc_initial",
+                 "--quiet")
+    assert result.exit_code == 0, result.output
     kc_meas = case_kc  # `elastokin kc` on the config with its measurements
     a = json.loads((kc_out / "summary.json").read_text())["models"]["initial"]
     b = json.loads((kc_meas / "summary.json").read_text())["models"]["identified"]

@@ -1,49 +1,287 @@
 """Loading configs and rig files: YAML -> validated, resolved
 :class:`~elastokin.config.suspension.Suspension`. Errors name the file, the line or the key.
+
+Every YAML file elastokin reads goes through :class:`StrictLoader` (:func:`parse_yaml`,
+:func:`read_yaml`): a safe loader that refuses a key appearing twice in one mapping. Schema
+errors are reported in the config's own key paths (:func:`format_validation_error`).
 """
 
 from __future__ import annotations
 
+import difflib
 import hashlib
+import re
+import types
+import typing
 from dataclasses import replace
 from pathlib import Path
 
 import yaml
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
+from elastokin.config.bounds import TOO_MANY_STEPS
 from elastokin.config.schema import RigSpec, SuspensionFile
 from elastokin.config.suspension import Resolver, Suspension
 from elastokin.errors import ConfigError
 
 # ----------------------------------------------------------------------------------------------
-# Loading
+# Strict YAML
+
+_MERGE_TAG = "tag:yaml.org,2002:merge"
 
 
-def format_validation_error(path: str, err: ValidationError) -> str:
-    first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"] if not str(p).startswith("function-"))
-    msg = first["msg"]
-    extra = f" ({len(err.errors()) - 1} more problems)" if len(err.errors()) > 1 else ""
-    return f"{path}: key '{loc}': {msg}{extra}"
+class DuplicateKeyError(yaml.MarkedYAMLError):
+    """A key that appears twice in one YAML mapping (``problem_mark``: its second place)."""
+
+
+def yaml_key_path(path: tuple) -> str:
+    """``hardpoints.J4``, ``a.b[2]``: a key path as the messages write it."""
+    out = ""
+    for seg in path:
+        out += f"[{seg}]" if isinstance(seg, int) and not isinstance(seg, bool) else f".{seg}"
+    return out.lstrip(".")
+
+
+class StrictLoader(yaml.SafeLoader):
+    """The YAML loader of every file elastokin reads: :class:`yaml.SafeLoader` refusing a key
+    that appears twice in one mapping at any nesting level (:class:`DuplicateKeyError`, naming
+    the key, the mapping's key path and both lines). Merge keys (``<<``) may be overridden."""
+
+    def get_single_data(self):
+        node = self.get_single_node()
+        if node is None:
+            return None
+        self.check_unique_keys(node, (), set())
+        return self.construct_document(node)
+
+    def check_unique_keys(self, node: yaml.Node, path: tuple, visited: set) -> None:
+        if id(node) in visited:  # an alias: checked where it is anchored
+            return
+        visited.add(id(node))
+        if isinstance(node, yaml.SequenceNode):
+            for i, item in enumerate(node.value):
+                self.check_unique_keys(item, (*path, i), visited)
+            return
+        if not isinstance(node, yaml.MappingNode):
+            return
+        first: dict = {}
+        for key_node, value_node in node.value:
+            if key_node.tag == _MERGE_TAG:
+                self.check_unique_keys(value_node, path, visited)
+                continue
+            key = self.scalar_key(key_node)
+            if key is not None and key in first:
+                where = f"in '{yaml_key_path(path)}'" if path else "at the top level"
+                raise DuplicateKeyError(
+                    problem=f"key '{key}' appears twice {where} (first at line {first[key]})",
+                    problem_mark=key_node.start_mark)
+            if key is not None:
+                first[key] = key_node.start_mark.line + 1
+            self.check_unique_keys(value_node, (*path, key_node.value if key is None else key),
+                                   visited)
+
+    def scalar_key(self, key_node: yaml.Node) -> typing.Hashable | None:
+        """The constructed key of a scalar key node; None for other (complex) keys."""
+        if not isinstance(key_node, yaml.ScalarNode):
+            return None
+        key = self.construct_object(key_node, deep=True)
+        try:
+            hash(key)
+        except TypeError:
+            return None
+        return key
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _yaml_problem(exc: yaml.YAMLError, text: bytes | str) -> tuple[str, str]:
+    """Where (`` line L, column C``) and what of a YAML error; a line number always when the
+    error has a mark or a position."""
+    mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+    where = f" line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+    position = getattr(exc, "position", None)  # a ReaderError: characters from the start
+    if mark is None and position is not None:
+        decoded = text.decode("utf-8", "replace") if isinstance(text, bytes) else text
+        where = f" line {decoded[:position].count(chr(10)) + 1}"
+    problem = getattr(exc, "problem", None)
+    context = getattr(exc, "context", None)
+    if problem and context:
+        problem = f"{context}: {problem}"
+    return where, _one_line(problem or (str(exc).splitlines() or [type(exc).__name__])[0])
+
+
+def parse_yaml(text: bytes | str, source: str) -> object:
+    """Parse YAML text with :class:`StrictLoader`; errors are a one-line
+    :class:`~elastokin.errors.ConfigError` naming ``source`` and the line."""
+    try:
+        return yaml.load(text, Loader=StrictLoader)
+    except DuplicateKeyError as exc:
+        raise ConfigError(f"{source}: line {exc.problem_mark.line + 1}: {exc.problem}") from None
+    except yaml.YAMLError as exc:
+        where, problem = _yaml_problem(exc, text)
+        raise ConfigError(f"{source}:{where}: malformed YAML: {problem}") from None
 
 
 def read_yaml(path: str | Path, what: str = "config file") -> tuple[dict, bytes]:
-    """Read a YAML mapping; errors name the file (``what`` it is) and line."""
+    """Read a YAML mapping (:func:`parse_yaml`); errors name the file (``what`` it is) and
+    line."""
     p = Path(path)
     try:
         text = p.read_bytes()
     except OSError as exc:
         raise ConfigError(f"{p}: cannot read {what} ({exc.strerror})") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or str(exc)
-        raise ConfigError(f"{p}:{where}: malformed YAML: {problem}") from None
+    data = parse_yaml(text, str(p))
     if not isinstance(data, dict):
         raise ConfigError(f"{p}: expected a YAML mapping of keys at the top level of the {what}")
     return data, text
+
+
+# ----------------------------------------------------------------------------------------------
+# Schema errors in the config's own key paths
+
+#: pydantic error types saying the value is not of one member's type: of a union, all but one
+#: of these are beside the point
+_TYPE_MISMATCH = re.compile(r".*_(type|parsing)$|union_tag_not_found$|model_attributes_type$")
+
+
+def _unwrap(t):
+    """A type without ``Annotated`` and without ``| None``."""
+    while True:
+        origin = typing.get_origin(t)
+        if origin is typing.Annotated:
+            t = typing.get_args(t)[0]
+        elif origin in (typing.Union, types.UnionType):
+            members = [m for m in typing.get_args(t) if m is not type(None)]
+            if len(members) != 1:
+                return t
+            t = members[0]
+        else:
+            return t
+
+
+def _is_model(t) -> bool:
+    return isinstance(t, type) and issubclass(t, BaseModel)
+
+
+def _union_member(t, seg):
+    """The member of union ``t`` that pydantic names ``seg`` in a location: its tag (the
+    ``type`` literal) or its class name; None when none is."""
+    for m in map(_unwrap, typing.get_args(t)):
+        if not _is_model(m):
+            continue
+        tag = m.model_fields.get("type")
+        if m.__name__ == seg or (tag is not None and seg in typing.get_args(tag.annotation)):
+            return m
+    return None
+
+
+def _model_at(root: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
+    """The schema model that pydantic location ``loc`` (its own segments) leads to."""
+    t = root
+    for seg in loc:
+        t = _unwrap(t)
+        origin, args = typing.get_origin(t), typing.get_args(t)
+        if _is_model(t):
+            field = next((f for n, f in t.model_fields.items() if seg in (n, f.alias)), None)
+            if field is None:
+                return None
+            t = field.annotation
+        elif origin is dict:
+            t = args[1]
+        elif origin in (list, tuple) and isinstance(seg, int):
+            t = args[0] if origin is list or args[-1] is Ellipsis else args[min(seg, len(args) - 1)]
+        elif origin in (typing.Union, types.UnionType):
+            t = _union_member(t, seg)
+        else:
+            return None
+    t = _unwrap(t)
+    return t if _is_model(t) else None
+
+
+def _config_loc(loc: tuple, data: object, keep_last: bool) -> tuple:
+    """``loc`` without pydantic's own segments (union tags, type names, validators): only the
+    keys and indices found in the input ``data``; with ``keep_last`` the last segment stays
+    (a missing key)."""
+    out, here = [], data
+    for i, seg in enumerate(loc):
+        if isinstance(here, dict) and seg in here:
+            here = here[seg]
+        elif (isinstance(here, list | tuple) and isinstance(seg, int)
+              and 0 <= seg < len(here)):
+            here = here[seg]
+        elif not (keep_last and i == len(loc) - 1):
+            continue
+        out.append(seg)
+    return tuple(out)
+
+
+def _suggestion(key: object, known: list[str]) -> str:
+    close = difflib.get_close_matches(str(key), known, n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _problem(e: dict, data: object, root: type[BaseModel] | None,
+             prefix: tuple) -> tuple[tuple, str]:
+    """One pydantic error as (key path in the config's terms, message)."""
+    kind, loc = e["type"], tuple(e["loc"])
+    path = (*prefix, *_config_loc(loc, data, keep_last=kind in ("missing", TOO_MANY_STEPS)))
+    ctx = e.get("ctx") or {}
+    if kind == TOO_MANY_STEPS and ctx.get("key"):
+        path = (*path, *str(ctx["key"]).split("."))
+    if kind == "extra_forbidden" and loc:
+        model = _model_at(root, loc[:-1]) if root is not None else None
+        known = [f.alias or n for n, f in model.model_fields.items()] if model else []
+        parent = path[:-1]
+        where = f"key '{yaml_key_path(parent)}': unknown" if parent else "unknown top-level"
+        return parent, f"{where} key '{loc[-1]}'{_suggestion(loc[-1], known)}"
+    msg = re.sub(r"^(Value error|Assertion failed), ", "", e["msg"])
+    msg = re.sub(r" or instance of \w+", "", msg)
+    return path, msg
+
+
+def format_validation_error(path: str, err: ValidationError, data: object = None,
+                            root: type[BaseModel] | None = None, prefix: tuple = ()) -> str:
+    """A pydantic error as one line: ``FILE: key 'KEY.PATH': what is wrong (N more
+    problems)``, the key path in the config's own terms (given the validated ``data``; the
+    ``root`` model lets an unknown key suggest the closest known one). Unknown keys come
+    first (a missing key they cause is one of the more problems); of a union, the member
+    whose error goes deepest speaks."""
+    errors = err.errors()
+    found = [(e, *_problem(e, data, root, prefix)) for e in errors]
+    groups: dict[tuple, list] = {}
+    for e, loc, msg in found:
+        groups.setdefault(loc, []).append((e, msg))
+    deeper = {loc[:i] for loc in groups for i in range(len(loc))}
+
+    def mismatch(e: dict) -> bool:
+        return bool(_TYPE_MISMATCH.match(e["type"]))
+
+    problems = []
+    for loc, items in groups.items():
+        kept = [(e, m) for e, m in items if not mismatch(e)]
+        if not kept and loc in deeper:
+            continue  # another member of the union got further: its error speaks
+        items = kept or items
+        extra = any(e["type"] == "extra_forbidden" for e, _ in items)
+        messages = list(dict.fromkeys(m for _, m in items))
+        text = ("; " if kept else "; or ").join(messages)
+        if extra:
+            problems.append((0, [f"{path}: {m}" for m in messages]))
+        else:
+            key = yaml_key_path(loc)
+            problems.append((1, [f"{path}: key '{key}': {text}" if key else f"{path}: {text}"]))
+    lines = [line for _, group in sorted(problems, key=lambda p: p[0]) for line in group]
+    if not lines:  # cannot happen; never hide the error
+        lines = [f"{path}: {_one_line(str(err))}"]
+    n = len(lines) - 1
+    more = f" ({n} more problem{'s' if n > 1 else ''})" if n else ""
+    return _one_line(lines[0] + more)
+
+
+# ----------------------------------------------------------------------------------------------
+# Loading
 
 
 def load_suspension(path: str | Path, overrides: dict | None = None) -> Suspension:
@@ -65,14 +303,16 @@ def load_rig(path: str | Path) -> dict:
     """Read and validate a rig file: the load cases of :class:`RigSpec` as a YAML mapping,
     either at the top level or under one ``rig:`` key. Errors name the rig file and key."""
     data, _ = read_yaml(path, "rig file")
+    prefix: tuple = ()
     if set(data) == {"rig"}:
-        data = data["rig"]
+        data, prefix = data["rig"], ("rig",)
         if not isinstance(data, dict):
             raise ConfigError(f"{path}: key 'rig': expected a mapping of load cases")
     try:
         RigSpec.model_validate(data)
     except ValidationError as err:
-        raise ConfigError(format_validation_error(f"{path} (rig file)", err)) from None
+        raise ConfigError(format_validation_error(f"{path} (rig file)", err, data, RigSpec,
+                                                  prefix)) from None
     return data
 
 
@@ -92,7 +332,7 @@ def suspension_from_dict(data: dict, source: str = "<dict>", sha256: str = "") -
     try:
         spec = SuspensionFile.model_validate(data)
     except ValidationError as err:
-        raise ConfigError(format_validation_error(source, err)) from None
+        raise ConfigError(format_validation_error(source, err, data, SuspensionFile)) from None
     if not sha256:
         sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
     return Resolver(spec, source).resolve(sha256, data)

@@ -12,12 +12,14 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from elastokin.config import bounds
+
 Vector3 = tuple[float, float, float]
 PointSpec = str | Vector3
 
 
 class StrictModel(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class AxisBetween(StrictModel):
@@ -122,8 +124,8 @@ class LinkSpec(StrictModel):
 class CurveSpec(StrictModel):
     """A force-deflection curve: deflection (mm or deg) -> force (N) or torque (N*mm)."""
 
-    deflection: list[float] = Field(min_length=2)
-    load: list[float] = Field(min_length=2)
+    deflection: list[float] = Field(min_length=2, max_length=bounds.MAX_CURVE_POINTS)
+    load: list[float] = Field(min_length=2, max_length=bounds.MAX_CURVE_POINTS)
 
 
 DirectionSpec = float | CurveSpec
@@ -226,6 +228,9 @@ class TravelSpec(StrictModel):
     def _ordered(self) -> TravelSpec:
         if not self.rebound_mm < 0 < self.bump_mm:
             raise ValueError("need rebound_mm < 0 < bump_mm (travel about the design position)")
+        n = bounds.travel_steps(self.rebound_mm, self.bump_mm, self.step_mm, self.unloading)
+        bounds.check_steps(n, "step_mm", f"{self.step_mm:g} mm",
+                           f"from rebound_mm {self.rebound_mm:g} to bump_mm {self.bump_mm:g}")
         return self
 
 
@@ -241,6 +246,9 @@ class VerticalForceSpec(StrictModel):
     def _ordered(self) -> VerticalForceSpec:
         if not self.min_N < self.max_N:
             raise ValueError("need min_N < max_N")
+        n = bounds.vertical_force_steps(self.min_N, self.max_N, self.step_N)
+        bounds.check_steps(n, "step_N", f"{self.step_N:g} N",
+                           f"from min_N {self.min_N:g} to max_N {self.max_N:g} and back")
         return self
 
 
@@ -250,12 +258,24 @@ class ForceSweepSpec(StrictModel):
     amplitude_N: float = Field(default=2000.0, gt=0)
     step_N: float = Field(default=50.0, gt=0)
 
+    @model_validator(mode="after")
+    def _bounded(self) -> ForceSweepSpec:
+        bounds.check_steps(bounds.sweep_steps(self.amplitude_N, self.step_N), "step_N",
+                           f"{self.step_N:g} N", f"for amplitude_N {self.amplitude_N:g}")
+        return self
+
 
 class TorqueSweepSpec(StrictModel):
     """A torque swept 0 -> +amplitude -> -amplitude -> 0 at the design wheel load (N*mm)."""
 
     amplitude_Nmm: float = Field(default=1.0e5, gt=0)
     step_Nmm: float = Field(default=2500.0, gt=0)
+
+    @model_validator(mode="after")
+    def _bounded(self) -> TorqueSweepSpec:
+        bounds.check_steps(bounds.sweep_steps(self.amplitude_Nmm, self.step_Nmm), "step_Nmm",
+                           f"{self.step_Nmm:g} N*mm", f"for amplitude_Nmm {self.amplitude_Nmm:g}")
+        return self
 
 
 class RigSpec(StrictModel):
@@ -387,7 +407,7 @@ class RealSuspensionSpec(StrictModel):
     bushings: dict[str, RealBushingSpec] = {}
     ball_joint_friction_Nmm: dict[str, float] = {}  # breakaway torque per spherical joint
     presliding_deg: float = Field(default=0.05, gt=0)  # stick rotation before the joint slips
-    substeps: int = Field(default=4, ge=1)  # solver steps per recorded rig step (friction)
+    substeps: int = Field(default=4, ge=1, le=bounds.MAX_SUBSTEPS)  # per recorded rig step
     noise: KCTestNoiseSpec = KCTestNoiseSpec()
 
 
@@ -465,4 +485,14 @@ class SuspensionFile(StrictModel):
         if not v:
             raise ValueError("at least one moving part is needed")
         return v
+
+    @model_validator(mode="after")
+    def _bounded_approach(self) -> SuspensionFile:
+        v, w = self.rig.vertical_force, self.design.wheel_load_N
+        if v is not None:
+            bounds.check_steps(bounds.vertical_force_steps(v.min_N, v.max_N, v.step_N, w),
+                               "rig.vertical_force.step_N", f"{v.step_N:g} N",
+                               f"from design.wheel_load_N {w:g} to min_N {v.min_N:g}, to max_N "
+                               f"{v.max_N:g} and back")
+        return self
 

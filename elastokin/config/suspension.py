@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
 from elastokin.config.schema import (
     AxisBetween,
     AxisSpec,
@@ -226,18 +227,43 @@ class Resolver:
             return Rotation.from_euler("ZXZ", c.euler_zxz_deg, degrees=True).as_matrix()
         z = self.axis(c.axis, key + ".axis")
         x = self.axis(c.radial, key + ".radial")
+        angle = np.degrees(np.arccos(min(1.0, abs(float(x @ z)))))
+        if angle < MIN_AXIS_ANGLE_DEG:
+            raise self.fail(key + ".radial", f"radial direction is parallel to the axis "
+                            f"({angle:.2g} deg apart; at least {MIN_AXIS_ANGLE_DEG:g} deg)")
         x = x - (x @ z) * z
-        n = np.linalg.norm(x)
-        if n < 1e-6:
-            raise self.fail(key + ".radial", "radial direction is parallel to the axis")
-        x /= n
+        x /= np.linalg.norm(x)
         return np.column_stack([x, np.cross(z, x), z])
+
+    def check_names(self) -> None:
+        """The names of the ground, parts, connections and springs are distinct."""
+        s = self.spec
+        seen = {s.ground: "ground"}
+        for section in ("parts", "connections", "springs"):
+            for name in getattr(s, section):
+                key = f"{section}.{name}"
+                if seen.get(name) == "ground" and section == "parts":
+                    raise self.fail(key, "the ground part must not be listed under parts "
+                                    "(key 'ground')")
+                if name in seen:
+                    raise self.fail(key, f"the name '{name}' is taken by key '{seen[name]}'; "
+                                    "parts, the ground, connections and springs need distinct "
+                                    "names")
+                seen[name] = key
+
+    def spin_axis(self) -> np.ndarray:
+        """The wheel's unit spin axis, refused within MIN_AXIS_ANGLE_DEG of vertical."""
+        spin = self.axis(self.spec.wheel.spin_axis, "wheel.spin_axis")
+        tilt = np.degrees(np.arcsin(min(1.0, float(np.hypot(spin[0], spin[1])))))
+        if tilt < MIN_AXIS_ANGLE_DEG:
+            raise self.fail("wheel.spin_axis", f"{tilt:.2g} deg from vertical: a wheel spin "
+                            f"axis must be at least {MIN_AXIS_ANGLE_DEG:g} deg from vertical "
+                            "(toe and camber are undefined)")
+        return spin
 
     def resolve(self, sha256: str, raw: dict) -> Suspension:
         s = self.spec
-        for name in s.parts:
-            if name == s.ground:
-                raise self.fail(f"parts.{name}", "the ground part must not be listed under parts")
+        self.check_names()
         for name, p in s.parts.items():
             if p.centre_of_mass is not None:
                 self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
@@ -274,7 +300,7 @@ class Resolver:
         if wheel_part == s.ground:
             raise self.fail("wheel.part", "the wheel cannot be carried by the ground part")
         centre = self.point(w.centre, "wheel.centre")
-        spin = self.axis(w.spin_axis, "wheel.spin_axis")
+        spin = self.spin_axis()
         res = Suspension(
             name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
             ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,

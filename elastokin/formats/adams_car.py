@@ -272,7 +272,7 @@ _MAPPING_KEYS = ("elastokin_adams_mapping", "side", "hardpoints", "bushings")
 
 def read_mapping(path: str | Path) -> AdamsMapping:
     """Read a mapping file (YAML, see ``docs/adams.md``)."""
-    data, _ = read_yaml(path)
+    data, _ = read_yaml(path, "ADAMS mapping file")  # strict YAML: no key twice
     p = str(path)
 
     def fail(key: str, msg: str) -> ConfigError:

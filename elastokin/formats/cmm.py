@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -103,35 +104,44 @@ def write_points(path: str | Path, points: dict[str, np.ndarray],
 
 def read_csv(path: str | Path) -> PointSet:
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MeasurementError(f"{p}: cannot read CSV measurement file ({exc})") from None
+    text = text_of(p, "CSV measurement file", "save the CSV file as UTF-8")
     rows = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
             if line.strip() and not line.lstrip().startswith("#")]
     if not rows:
         raise MeasurementError(f"{p}: no header row (expected {','.join(CSV_COLUMNS)})")
+    try:
+        return _csv_points(p, rows)
+    except csv.Error as exc:  # e.g. a field over the csv module's size limit
+        raise MeasurementError(f"{p}: unreadable CSV measurement file ({exc}); expected "
+                               f"rows of {','.join(CSV_COLUMNS)}") from None
+
+
+def _csv_points(p: Path, rows: list[tuple[int, str]]) -> PointSet:
     reader = csv.reader([line for _, line in rows])
     header = [h.strip() for h in next(reader)]
     missing = [c for c in CSV_COLUMNS if c not in header]
     if missing:
+        sep = " (the header is separated by ';': save the file comma-separated)" if (
+            ";" in rows[0][1] and "," not in rows[0][1]) else ""
         raise MeasurementError(f"{p}: line {rows[0][0]}: header lacks column(s) "
                                f"{', '.join(missing)} (expected {','.join(CSV_COLUMNS)}; "
-                               "coordinates in mm)")
+                               f"coordinates in mm){sep}")
     col = {c: header.index(c) for c in CSV_COLUMNS}
     out = PointSet(str(p))
     for (n, _), cells in zip(rows[1:], reader):
         where = f"line {n}"
+        if len(cells) > len(header):
+            raise MeasurementError(f"{p}: {where}: {len(cells)} cells, the header has "
+                                   f"{len(header)} columns (a decimal comma? use '.')")
         cells = [c.strip() for c in cells] + [""] * (len(header) - len(cells))
         label, kind = cells[col["label"]], cells[col["kind"]].lower()
 
         def num(names, cells=cells, where=where):
-            try:
-                return [float(cells[col[c]]) for c in names]
-            except ValueError:
-                bad = next(c for c in names if not _is_float(cells[col[c]]))
+            bad = next((c for c in names if not _is_float(cells[col[c]])), None)
+            if bad is not None:
                 raise MeasurementError(f"{p}: {where}: column {bad}: '{cells[col[bad]]}' is "
-                                       "not a number (mm)") from None
+                                       "not a finite number (mm)")
+            return [float(cells[col[c]]) for c in names]
 
         if kind == "point":
             out.add_point(label, num(("x_mm", "y_mm", "z_mm")), where)
@@ -144,12 +154,34 @@ def read_csv(path: str | Path) -> PointSet:
     return out
 
 
+def text_of(p: Path, what: str, hint: str) -> str:
+    """A text file's contents (UTF-8, a byte-order mark dropped); a file that cannot be read,
+    is binary (NUL bytes) or is not UTF-8 raises :class:`MeasurementError` naming the file,
+    the line and ``what`` it should be (``hint``: how to fix an encoding)."""
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise MeasurementError(f"{p}: cannot read {what} ({exc.strerror or exc})") from None
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise MeasurementError(f"{p}: UTF-16 text; expected a {what} in UTF-8: {hint}")
+    if b"\0" in data:
+        k = data.index(b"\0")
+        line = data.count(b"\n", 0, k) + 1
+        raise MeasurementError(f"{p}: line {line}: binary data (a NUL byte at byte {k}); "
+                               f"expected a {what} (text)")
+    try:
+        return data.decode("utf-8").removeprefix("\ufeff")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise MeasurementError(f"{p}: line {line}: not UTF-8 text (byte {exc.start}: "
+                               f"0x{data[exc.start]:02x}); expected a {what}: {hint}") from None
+
+
 def _is_float(s: str) -> bool:
     try:
-        float(s)
+        return math.isfinite(float(s))
     except ValueError:
         return False
-    return True
 
 
 def _num(x: float) -> str:
@@ -169,7 +201,7 @@ def write_csv(path: str | Path, points: dict, lines: dict, comment: str = "") ->
     for label, seg in lines.items():
         seg = np.asarray(seg, float)
         w.writerow([label, "line", *(_num(v) for v in seg[0]), *(_num(v) for v in seg[1])])
-    Path(path).write_text(buf.getvalue(), encoding="utf-8")
+    _write(Path(path), buf.getvalue(), "utf-8")
 
 
 # --------------------------------------------------------------------------------------- IGES
@@ -227,18 +259,107 @@ def _iges_scale_mm(path: Path, lines: list[str]) -> float:
     return factor / scale
 
 
+def _iges_records(p: Path) -> list[str]:
+    """The lines of an IGES file, checked before ``pyiges`` sees them: text, 80-column records
+    (a section letter in column 73), directory entries in pairs, the terminate line at the end;
+    otherwise :class:`MeasurementError` naming the file and the line."""
+    bad = f"{p}: unreadable IGES file"
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise MeasurementError(f"{bad} ({exc.strerror or exc})") from None
+    if b"\0" in data:
+        line = data.count(b"\n", 0, data.index(b"\0")) + 1
+        raise MeasurementError(f"{bad}: line {line}: binary data (a NUL byte); an IGES file "
+                               "is ASCII text")
+    try:
+        lines = data.decode("utf-8").splitlines()
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise MeasurementError(f"{bad}: line {line}: not ASCII text (byte {exc.start}: "
+                               f"0x{data[exc.start]:02x}); an IGES file is ASCII text") from None
+    if not any(len(line) > 72 and line[72] == "D" for line in lines):
+        raise MeasurementError(f"{bad}: no directory entries (lines with D in column 73); "
+                               "expected an ASCII IGES file")
+    for n, line in enumerate(lines, start=1):
+        if len(line) <= 72 or line[72] not in "SGDPT":
+            raise MeasurementError(f"{bad}: line {n}: not an IGES record (expected 80 columns "
+                                   "with the section letter S, G, D, P or T in column 73)")
+    if sum(line[72] == "D" for line in lines) % 2:
+        raise MeasurementError(f"{bad}: odd number of directory lines (an entity has two): the "
+                               "file is truncated")
+    if lines[-1][72] != "T":
+        raise MeasurementError(f"{bad}: no terminate line (T in column 73) at the end: the "
+                               "file is truncated")
+    _check_iges_fields(bad, lines)
+    return lines
+
+
+#: the integer fields pyiges reads: (first column, end column, name), per directory line
+_IGES_DE_FIELDS = (
+    ((0, 8, "entity type"), (8, 16, "parameter pointer"), (16, 24, "structure"),
+     (24, 32, "line font"), (32, 40, "level"), (40, 48, "view"),
+     (48, 56, "transformation matrix"), (56, 65, "label display"), (65, 72, "status number")),
+    ((8, 16, "line weight"), (16, 24, "colour"), (24, 32, "parameter line count"),
+     (32, 40, "form number"), (64, 72, "subscript number")))
+
+
+def _iges_int(text: str) -> int | None:
+    try:
+        return int(text.strip()) if text.strip() else None
+    except ValueError:
+        return -1
+
+
+def _check_iges_fields(bad: str, lines: list[str]) -> None:
+    """The directory entries' integer fields and the parameter lines' pointers, with the line
+    of the first bad one (``pyiges`` fails on them without saying where)."""
+    first_lines = set()
+    d_count = 0
+    for n, line in enumerate(lines, start=1):
+        if line[72] == "D":
+            for a, b, name in _IGES_DE_FIELDS[d_count % 2]:
+                cell = line[a:b].replace(" ", "0") if name == "status number" else line[a:b]
+                if _iges_int(cell) == -1:
+                    raise MeasurementError(f"{bad}: line {n}, columns {a + 1}-{b}: "
+                                           f"'{line[a:b].strip()}' is not an integer ({name})")
+            if _iges_int(line[73:]) in (None, -1):
+                raise MeasurementError(f"{bad}: line {n}, columns 74-80: sequence number "
+                                       f"'{line[73:].strip()}' is not an integer")
+            if d_count % 2 == 0:
+                first_lines.add(int(line[73:]))
+            d_count += 1
+        elif line[72] == "P" and _iges_int(line[64:72]) not in first_lines:
+            raise MeasurementError(f"{bad}: line {n}, columns 65-72: '{line[64:72].strip()}' "
+                                   "is not the sequence number of a directory entry")
+
+
+def _iges_xyz(p: Path, e, kind: int, where: str) -> np.ndarray:
+    """The coordinates of a point (116, shape (1, 3)) or a line (110, (2, 3)) entity."""
+    try:
+        xyz = np.atleast_2d(e.coordinate if kind == 116 else e.coordinates).astype(float)
+    except (AttributeError, TypeError, ValueError):  # pyiges never parsed its parameters
+        raise MeasurementError(f"{p}: unreadable IGES file: {where}: no parameter data (the "
+                               "file is truncated or the directory entry's parameter pointer "
+                               "is wrong)") from None
+    if not np.all(np.isfinite(xyz)):
+        raise MeasurementError(f"{p}: {where}: coordinates {xyz.ravel().tolist()} are not "
+                               "finite numbers")
+    return xyz
+
+
 def read_iges(path: str | Path) -> PointSet:
     """Points (116) and lines (110) of an IGES file, through ``pyiges``; other entities are
-    ignored. Coordinates converted to mm."""
+    ignored. Coordinates converted to mm. Every problem (a truncated, binary or malformed
+    file, an entity ``pyiges`` cannot read) raises :class:`MeasurementError` naming the file."""
     import pyiges
 
     p = Path(path)
+    raw = _iges_records(p)
     try:
-        raw = p.read_text(encoding="latin-1").splitlines()
-        if not any(len(line) > 72 and line[72] == "D" for line in raw):
-            raise ValueError("no directory entries")
         with contextlib.redirect_stdout(io.StringIO()) as warnings:
             iges = pyiges.read(str(p))
+        entities = list(iges.items)
     except Exception as exc:  # pyiges raises bare IndexError/ValueError on malformed files
         raise MeasurementError(f"{p}: unreadable IGES file ({type(exc).__name__}: "
                                f"{exc or 'malformed'})") from None
@@ -247,7 +368,7 @@ def read_iges(path: str | Path) -> PointSet:
                                f"{warnings.getvalue().strip().splitlines()[0]}")
     scale = _iges_scale_mm(p, raw)
     out = PointSet(str(p))
-    for e in iges.items:
+    for e in entities:
         kind = e.d.get("entity_type_number")
         if kind not in (110, 116):
             continue
@@ -256,7 +377,7 @@ def read_iges(path: str | Path) -> PointSet:
         if subscript:
             label = f"{label}{subscript}"
         where = f"entity {kind} at directory line {e.sequence_number}"
-        xyz = np.atleast_2d(e.coordinate if kind == 116 else e.coordinates).astype(float)
+        xyz = _iges_xyz(p, e, kind, where)
         ptr = e.d.get("transform") or 0
         for _ in range(16):  # a chain of transformation matrices
             if not ptr:
@@ -264,9 +385,9 @@ def read_iges(path: str | Path) -> PointSet:
             try:
                 T = iges[ptr]
                 xyz = xyz @ T.to_affine()[:3, :3].T + T.to_affine()[:3, 3]
-            except (KeyError, AttributeError):
+            except (KeyError, IndexError, AttributeError, TypeError, ValueError):
                 raise MeasurementError(f"{p}: {where}: transformation matrix pointer {ptr} "
-                                       "does not point to an entity 124") from None
+                                       "does not point to a readable entity 124") from None
             ptr = T.d.get("transform") or 0
         xyz = xyz * scale
         if kind == 116:
@@ -333,4 +454,11 @@ def write_iges(path: str | Path, points: dict, lines: dict, comment: str = "") -
         out += [f"{line}{i:>7}" for i, line in enumerate(sec, start=1)]
     out.append(f"S{len(start):07d}G{len(gsec):07d}D{len(dsec):07d}P{len(psec):07d}"
                f"{'':<40}T{1:>7}")
-    Path(path).write_text("\n".join(out) + "\n", encoding="ascii")
+    _write(Path(path), "\n".join(out) + "\n", "ascii")
+
+
+def _write(p: Path, text: str, encoding: str) -> None:
+    try:
+        p.write_text(text, encoding=encoding)
+    except (OSError, UnicodeEncodeError) as exc:
+        raise MeasurementError(f"{p}: cannot write measurement file ({exc})") from None

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from elastokin.config.loading import read_yaml
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm import read_points
 
@@ -81,7 +82,7 @@ def read_assembly(spec, folder: Path, parts: list[str]) -> tuple[str, dict[str, 
 def read_truth(path: Path) -> dict[str, np.ndarray]:
     """The synthetic truth file's true joint locations (mm, config frame, loaded)."""
     try:
-        data = yaml.safe_load(path.read_text())
+        data = read_yaml(path, "truth file")[0]  # strict YAML: errors name file and line
         return {k: np.asarray(v, float) for k, v in data["joints"].items()}
     except (OSError, yaml.YAMLError, KeyError, TypeError, ValueError) as exc:
         raise MeasurementError(f"{path}: unreadable truth file ({exc})") from None

@@ -216,14 +216,22 @@ def _check_sweep(path, column: str, x: np.ndarray, lines: Sequence[int],
 
 
 def _read_text(p: Path) -> str:
-    """The file's text (UTF-8, a byte-order mark dropped)."""
+    """The file's text (UTF-8, a byte-order mark dropped); binary data named with its line."""
     try:
-        return p.read_bytes().decode("utf-8-sig")
+        data = p.read_bytes()
     except OSError as exc:
         raise MeasurementError(f"{p}: cannot read K&C test file ({exc.strerror})") from None
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise MeasurementError(f"{p}: UTF-16 text; save the CSV file as UTF-8")
+    if b"\0" in data:
+        k = data.index(b"\0")
+        raise MeasurementError(f"{p}: line {data.count(10, 0, k) + 1}: binary data (a NUL byte "
+                               f"at byte {k}); expected a K&C test CSV file (UTF-8 text)")
+    try:
+        return data.decode("utf-8").removeprefix("\ufeff")
     except UnicodeDecodeError as exc:
-        raise MeasurementError(f"{p}: not UTF-8 text (byte {exc.start}); save the CSV file as "
-                               "UTF-8") from None
+        raise MeasurementError(f"{p}: line {data.count(10, 0, exc.start) + 1}: not UTF-8 text "
+                               f"(byte {exc.start}); save the CSV file as UTF-8") from None
 
 
 def _read_comments(p: Path, lines: Sequence[str]
@@ -286,12 +294,19 @@ class _Header:
     display: list[str]
 
 
+def _cells(p: Path, line: str, n: int) -> list[str]:
+    try:
+        return next(csv.reader([line]))
+    except csv.Error as exc:  # e.g. a cell over the csv module's size limit
+        raise MeasurementError(f"{p}: line {n}: unreadable CSV row ({exc})") from None
+
+
 def _parse_header(p: Path, header_line: str, header_at: int) -> _Header:
     """Names, units and conversion factors of the header row (line ``header_at``)."""
     if ";" in header_line and "," not in header_line:
         raise MeasurementError(f"{p}: line {header_at}: the header is separated by ';'; save "
                                "the file as comma-separated CSV with '.' as decimal point")
-    raw = next(csv.reader([header_line]))
+    raw = _cells(p, header_line, header_at)
     names, units, factors, unknown = [], {}, [], []
     for k, cell in enumerate(raw, start=1):
         name, unit = _parse_header_cell(p, cell, k)
@@ -347,7 +362,7 @@ def _parse_rows(p: Path, lines: Sequence[str], header_at: int, header: _Header
         if line.lstrip().startswith("#"):
             raise MeasurementError(f"{p}: line {n}: '#' comment lines are allowed only before "
                                    "the header row")
-        cells = next(csv.reader([line]))
+        cells = _cells(p, line, n)
         if len(cells) != len(names):
             raise MeasurementError(f"{p}: line {n}: {len(cells)} cells, the header has "
                                    f"{len(names)} columns")
@@ -466,5 +481,8 @@ def write_kc_test(path: str | Path, load_case: str, channels: Mapping[str, Seque
     out.append(",".join(header))
     table = np.column_stack(arrays)
     out.extend(",".join(_format(v, decimals) for v in row) for row in table)
-    p.write_bytes(("\n".join(out) + "\n").encode("utf-8"))
+    try:
+        p.write_bytes(("\n".join(out) + "\n").encode("utf-8"))
+    except OSError as exc:
+        raise MeasurementError(f"{p}: cannot write K&C test file ({exc.strerror})") from None
     return p

@@ -229,6 +229,11 @@ def _error(path: str, line: int | None, block: str | None, msg: str) -> ConfigEr
     return ConfigError(f"{where}: {msg}")
 
 
+def _show(text: str, limit: int = 60) -> str:
+    """``repr`` of a line's text for a message, cut to about ``limit`` characters."""
+    return repr(text if len(text) <= limit else text[:limit] + "...")
+
+
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")
 _NAME = r"[A-Za-z_][A-Za-z0-9_]*"
 
@@ -258,7 +263,8 @@ def _value(token: str, quoted: bool) -> float | str:
     if quoted:
         return token.strip()
     if _NUMBER.match(token):
-        return float(token.replace("d", "e").replace("D", "e"))
+        x = float(token.replace("d", "e").replace("D", "e"))
+        return x if math.isfinite(x) else token  # 1e999: not a number a quantity can take
     return token
 
 
@@ -274,33 +280,34 @@ def parse_teimorbit(text: str, path: str = "<text>") -> TeimOrbitFile:
         bname = block.name if block else None
         line, open_quote = _strip_comment(raw)
         if open_quote:
-            raise _error(path, n, bname, f"unclosed quote {open_quote} in {raw.strip()!r}")
+            raise _error(path, n, bname,
+                         f"unclosed quote {open_quote} in {_show(raw.strip())}")
         line = line.strip()
         if not line:
             continue
         if line.startswith("["):
             m = re.fullmatch(rf"\[\s*({_NAME})\s*\]", line)
             if not m:
-                raise _error(path, n, bname, f"malformed block header {line!r} (expected "
+                raise _error(path, n, bname, f"malformed block header {_show(line)} (expected "
                              "[NAME])")
             block = Block(m.group(1).upper(), n)
             blocks.append(block)
             section, table = block, None
             continue
         if block is None:
-            raise _error(path, n, None, f"{line!r} comes before the first [BLOCK] header")
+            raise _error(path, n, None, f"{_show(line)} comes before the first [BLOCK] header")
         if line.startswith("("):
             m = re.fullmatch(rf"\(\s*({_NAME})\s*\)", line)
             if not m:
-                raise _error(path, n, bname, f"malformed sub-block header {line!r} (expected "
-                             "(NAME))")
+                raise _error(path, n, bname, f"malformed sub-block header {_show(line)} "
+                             "(expected (NAME))")
             section = SubBlock(m.group(1).upper(), n)
             block.sub_blocks.append(section)
             table = None
             continue
         if line.startswith("{"):
             if not line.endswith("}") or line.count("}") != 1:
-                raise _error(path, n, bname, f"unclosed table header {line!r}: expected "
+                raise _error(path, n, bname, f"unclosed table header {_show(line)}: expected "
                              "'{col1 col2 ...}' on one line")
             columns = tuple(line[1:-1].split())
             if not columns:
@@ -314,7 +321,7 @@ def parse_teimorbit(text: str, path: str = "<text>") -> TeimOrbitFile:
             toks = _tokens(m.group(2))
             if len(toks) != 1:
                 raise _error(path, n, bname, f"{m.group(1)} = ...: expected one value (a "
-                             f"number or a 'quoted string'), got {m.group(2)!r}")
+                             f"number or a 'quoted string'), got {_show(m.group(2))}")
             key = m.group(1).upper()
             if key in section.entries:
                 raise _error(path, n, bname, f"{key} is given twice (first at line "
@@ -322,8 +329,9 @@ def parse_teimorbit(text: str, path: str = "<text>") -> TeimOrbitFile:
             section.entries[key] = Entry(key, _value(*toks[0]), n)
             continue
         if table is None:
-            raise _error(path, n, bname, f"unrecognised line {line!r} (expected a [BLOCK], "
-                         "(SUB_BLOCK), KEY = value, {table header}, a table row or a $ comment)")
+            raise _error(path, n, bname, f"unrecognised line {_show(line)} (expected a "
+                         "[BLOCK], (SUB_BLOCK), KEY = value, {table header}, a table row or a $ "
+                         "comment)")
         row = tuple(_value(t, q) for t, q in _tokens(line))
         if len(row) != len(table.columns):
             raise _error(path, n, bname, f"row has {len(row)} values but the table "
@@ -339,11 +347,18 @@ def read_teimorbit(path: str | Path, convert: bool = True) -> TeimOrbitFile:
     defaults mm, newton, degrees, kg, second when the file has none)."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8-sig", errors="strict")
+        data = p.read_bytes()
     except OSError as exc:
         raise ConfigError(f"{p}: cannot read file ({exc.strerror})") from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{p}: not a text file (byte {exc.start} is not UTF-8)") from None
+    bad = data.find(b"\0")  # a NUL byte: binary data
+    if bad < 0:
+        try:
+            text = data.decode("utf-8").removeprefix("\ufeff")
+        except UnicodeDecodeError as exc:
+            bad = exc.start
+    if bad >= 0:
+        raise _error(str(p), data.count(b"\n", 0, bad) + 1, None, f"not a text file (byte "
+                     f"{bad} is binary or not UTF-8); expected a TeimOrbit text file")
     f = parse_teimorbit(text, str(p))
     units_blocks = f.blocks_named("UNITS")
     if units_blocks:

@@ -235,7 +235,8 @@ def part_poses(s: Suspension, parts: dict[str, PartMeasurement],
         try:
             matches[p] = match_marks(pm.marks, assembled[p], m.eps_mm, p)
         except MeasurementError as exc:
-            raise MeasurementError(f"{assembly_file}: {exc}") from None
+            hint = _unit_hint(parts, assembled, p, m.eps_mm, assembly_file)
+            raise MeasurementError(f"{assembly_file}: {exc}{hint}") from None
         warnings += [f"{assembly_file}: {w}" for w in matches[p].warnings]
         if matches[p].dropped_mark is not None:
             warnings.append(f"{assembly_file}: part '{p}': mark "
@@ -245,6 +246,39 @@ def part_poses(s: Suspension, parts: dict[str, PartMeasurement],
     g = matches[s.ground]
     poses = {p: PartPose(p, g.R.T @ mm.R, g.R.T @ (mm.t - g.t), mm) for p, mm in matches.items()}
     return poses, warnings
+
+
+#: common unit mix-ups (a file whose unit flag is not the unit of its numbers): factor, shown as
+_UNIT_SCALES = ((25.4, "25.4"), (1 / 25.4, "1/25.4"), (10.0, "10"), (0.1, "0.1"),
+               (1000.0, "1000"), (0.001, "0.001"), (304.8, "304.8"), (1 / 304.8, "1/304.8"))
+
+
+def _fits(local: np.ndarray, measured: np.ndarray, eps_mm: float, part: str) -> bool:
+    try:
+        match_marks(local, measured, eps_mm, part)
+    except MeasurementError:
+        return False
+    return True
+
+
+def _unit_hint(parts: dict[str, PartMeasurement], assembled: dict[str, np.ndarray], part: str,
+               eps_mm: float, assembly_file: str) -> str:
+    """When a part's marks match no ordering: the common unit factor after which they would
+    (the distance test [8-9] is scale-sensitive), and the file whose unit flag to check: the
+    part's file, or the assembly's when every part fits only after the same scaling."""
+    for k, (factor, shown) in enumerate(_UNIT_SCALES):
+        if not _fits(parts[part].marks * factor, assembled[part], eps_mm, part):
+            continue
+        others = [q for q in parts if q != part]
+        if others and all(not _fits(parts[q].marks, assembled[q], eps_mm, q)
+                          and _fits(parts[q].marks * factor, assembled[q], eps_mm, q)
+                          for q in others):
+            inverse = _UNIT_SCALES[k ^ 1][1]  # the factors come in inverse pairs
+            return (f"; every part's marks fit after scaling the assembled marks by {inverse}: "
+                    f"check the unit flag of {assembly_file}")
+        return (f"; the marks fit after scaling by {shown}: check the unit flag of "
+                f"{parts[part].source}")
+    return ""
 
 
 class _Geometry:

@@ -15,6 +15,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs.exudyn_api import exu, exudyn_call
+from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.solve import simulation_settings, solve_path
 
@@ -57,6 +58,8 @@ def design_state(suspension: Suspension) -> DesignState:
             forces[d.balance_spring] = p
         model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
                                 balancing=ideal)
+        if ideal:
+            hold_idle_spins(model)
         support = hold_contact_patch(model)
         state = solve_path(model, {support: np.zeros((1, 6))},
                            "balancing the design position")[0]
@@ -168,4 +171,7 @@ def build_model(variant: ModelVariant | Suspension, options: ModelOptions = Mode
     if isinstance(variant, Suspension):
         variant = ModelVariant("model", variant)
     preloads = design or variant.preloads or design_state(variant.suspension)
-    return SuspensionModel(variant.suspension, options, preloads, variant.friction)
+    model = SuspensionModel(variant.suspension, options, preloads, variant.friction)
+    if any(b.kinematic for b in variant.suspension.bushings):
+        hold_idle_spins(model)
+    return model
