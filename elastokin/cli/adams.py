@@ -2,8 +2,9 @@
 
 Units at every interface: mm, N, N*mm, deg; ADAMS files are converted on reading and written in
 mm, newton, degrees. Frames: ADAMS/Car's global frame (X rearward, Y right, Z up) in the ADAMS
-files, the config's ``frame`` in elastokin configs. Input errors end in one line on stderr and
-exit code 1.
+files, the config's ``frame`` in elastokin configs. ``--out`` is checked before anything is
+read; input errors end in one line on stderr and exit code 1; warnings are printed once each as
+``elastokin: warning: ...`` lines.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, fail
+from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error
 from elastokin.errors import ConfigError, ElastokinError
 
 
@@ -66,45 +67,71 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
     from elastokin.formats.adams_car import import_adams, read_mapping
     from elastokin.formats.config_yaml import dump_config
 
+    with WarningLog() as log:
+        try:
+            _check_out_file(out_path)  # before anything is read
+            template, _ = read_yaml(template_path)
+            bus_files = _bushing_option(bushings)
+            cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
+                                         f"template {template_path}")
+            bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
+            _keep_data_folders(cfg, template_path, out_path)
+            suspension_from_dict(cfg, str(out_path))  # the new config must be valid
+            sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
+                       f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
+                       f"template {template_path} (sha256 {_sha(template_path)})",
+                       *(f"bushing {n}: {f} (sha256 {_sha(f)})" for n, f in bus_files.items())]
+            text = dump_config(cfg, _import_header(sources, cfg["frame"]))
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(os_error(exc))
+        try:
+            _write_atomically(out_path, text)
+        except OSError as exc:
+            fail(f"--out {out_path}: cannot write ({exc.strerror or exc})")
+    log.echo(warnings)
+    click.echo(f"wrote {out_path}")
+
+
+def _check_out_file(out_path: Path) -> None:
+    if out_path.is_dir():
+        raise ElastokinError(f"--out {out_path}: is a folder; expected the file name of the new "
+                             "config")
+    check_writable(out_path)
+
+
+def _keep_data_folders(cfg: dict, template_path: Path, out_path: Path) -> None:
+    """Relative CMM / K&C test folders of the template, made relative to the new config."""
+    for key in ("measurements", "kc_test"):
+        m = cfg.get(key)
+        if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
+            target = template_path.parent / m.get("folder", ".")
+            rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
+            m["folder"] = Path(rel).as_posix()
+
+
+def _import_header(sources: list[str], frame: dict) -> str:
+    return "\n".join(
+        ["elastokin config imported from ADAMS/Car files by elastokin import-adams:",
+         *(f"  {s}" for s in sources),
+         "Units: lengths mm, forces N, torques N*mm, angles deg; hardpoints converted from "
+         "the ADAMS/Car",
+         f"frame (X rearward, Y right, Z up) to this config's frame (x {frame['x']}, "
+         f"y {frame['y']}, z up)."])
+
+
+def _write_atomically(out_path: Path, text: str) -> None:
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out_path.name}.", dir=out_path.parent)
     try:
-        template, _ = read_yaml(template_path)
-        bus_files = _bushing_option(bushings)
-        cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
-                                     f"template {template_path}")
-        bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
-        for key in ("measurements", "kc_test"):
-            m = cfg.get(key)
-            if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
-                # keep the CMM / K&C test files found from the new config's folder
-                target = template_path.parent / m.get("folder", ".")
-                rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
-                m["folder"] = Path(rel).as_posix()
-        suspension_from_dict(cfg, str(out_path))  # the new config must be valid
-        sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
-                   f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
-                   f"template {template_path} (sha256 {_sha(template_path)})",
-                   *(f"bushing {n}: {f} (sha256 {_sha(f)})" for n, f in bus_files.items())]
-        header = "\n".join(
-            ["elastokin config imported from ADAMS/Car files by elastokin import-adams:",
-             *(f"  {s}" for s in sources),
-             "Units: lengths mm, forces N, torques N*mm, angles deg; hardpoints converted from "
-             "the ADAMS/Car",
-             f"frame (X rearward, Y right, Z up) to this config's frame (x {cfg['frame']['x']}, "
-             f"y {cfg['frame']['y']}, z up)."])
-        text = dump_config(cfg, header)
-        out_path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{out_path.name}.", dir=out_path.parent)
         with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
             fh.write(text)
         os.chmod(tmp, 0o644)
         os.replace(tmp, out_path)
-    except ElastokinError as exc:
-        fail(str(exc))
-    except OSError as exc:
-        fail(f"{out_path}: cannot write ({exc.strerror})")
-    for w in warnings:
-        click.echo(f"elastokin: warning: {w}", err=True)
-    click.echo(f"wrote {out_path}")
+    except OSError:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 @click.command("export-adams")
@@ -134,26 +161,33 @@ def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Pat
     from elastokin.formats.adams_export import export_adams as write_files
     from elastokin.formats.adams_kc import write_adams_kc_csv
 
-    try:
-        s = load_suspension(config_path)
-        if identified:
-            if s.measurements is None:
-                raise ConfigError(f"{config_path}: --identified needs a 'measurements' section")
-            from elastokin.studies.identification import identify_geometry
+    output = Output(out_dir, marker="hardpoints.tbl")
+    with WarningLog() as log:
+        try:
+            output.check()  # before any computation
+            s = load_suspension(config_path)
+            if identified:
+                if s.measurements is None:
+                    raise ConfigError(f"{config_path}: --identified needs a 'measurements' "
+                                      "section")
+                from elastokin.studies.identification import identify_geometry
 
-            ident = identify_geometry(s)
-            s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
-                                     s.sha256)
-        preload = None
-        if s.design.balance_bushing_preloads and s.bushings:
-            from elastokin.mbs.design import design_state
+                ident = identify_geometry(s)
+                s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
+                                         s.sha256)
+            preload = None
+            if s.design.balance_bushing_preloads and s.bushings:
+                from elastokin.mbs.design import design_state
 
-            preload = design_state(s).bushing_preload
-        with Output(out_dir, marker="hardpoints.tbl") as tmp:
-            files = write_files(s, tmp, preload, range_mm, range_deg)
-            if kc_csv is not None:
-                write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
-                files.append(tmp / "kc_adams.csv")
-    except ElastokinError as exc:
-        fail(str(exc))
+                preload = design_state(s).bushing_preload
+            with output as tmp:
+                files = write_files(s, tmp, preload, range_mm, range_deg)
+                if kc_csv is not None:
+                    write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
+                    files.append(tmp / "kc_adams.csv")
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(os_error(exc))
+    log.echo()
     click.echo(f"wrote {len(files)} files in {out_dir}/: " + ", ".join(f.name for f in files))

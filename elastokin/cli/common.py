@@ -1,11 +1,16 @@
-"""What every command shares: the one-line error exit, the output folder that is replaced
-only when a run succeeded, and the ``--rig`` option."""
+"""What every command shares: the one-line error exit, the output checked before any
+computation and replaced only when a run succeeded, the Python warnings of a run as one line
+each, and the ``--rig`` option."""
 
 from __future__ import annotations
 
+import errno
+import os
 import shutil
 import sys
 import tempfile
+import warnings
+from collections.abc import Iterable
 from pathlib import Path
 
 import click
@@ -18,33 +23,133 @@ def fail(message: str) -> None:
     sys.exit(1)
 
 
+def os_error(exc: OSError) -> str:
+    """An OS error as the rest of one error line: the file it names and the reason."""
+    reason = exc.strerror or str(exc)
+    return f"{exc.filename}: {reason}" if exc.filename else reason
+
+
+def cannot_write(option: str, path: Path, reason: str) -> ElastokinError:
+    return ElastokinError(f"{option} {path}: cannot write ({reason})")
+
+
+def check_writable(path: Path, option: str = "--out") -> None:
+    """Refuse, before any computation, an output ``path`` (a file or a folder, created or
+    replaced) whose folder cannot be written: the nearest existing folder at or above its
+    parent (and ``path`` itself when it is a folder) must be a folder in which a file can be
+    created. Probed by creating and deleting a file, since permissions alone do not tell (root,
+    read-only file systems)."""
+    try:
+        existing = Path(os.path.abspath(path)).parent
+        while not existing.exists():
+            existing = existing.parent
+        if not existing.is_dir():
+            raise cannot_write(option, path, f"{os.strerror(errno.ENOTDIR)}: {existing}")
+        for folder in [existing] + ([path] if path.is_dir() else []):
+            fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+            os.close(fd)
+            os.unlink(probe)
+    except OSError as exc:
+        raise cannot_write(option, path, exc.strerror or str(exc)) from exc
+
+
 class Output:
     """Write results into a temporary folder beside ``out`` and move it into place only when
-    everything succeeded: a failed run leaves no partial results."""
+    everything succeeded: a failed run leaves no partial results and the previous ones
+    untouched. :meth:`check` refuses an unusable ``out`` before any computation."""
 
-    def __init__(self, out: Path, marker: str = "summary.json"):
+    def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
         self.out = out
         self.marker = marker  # a file that says the folder holds elastokin results
+        self.option = option
+
+    def check(self) -> None:
+        """Not a file, not a foreign non-empty folder, and its folder writable."""
+        out, opt = self.out, self.option
+        if out.exists() and not out.is_dir():
+            raise ElastokinError(f"{opt} {out}: exists and is not a folder")
+        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
+            raise ElastokinError(f"{opt} {out}: folder is not empty and holds no elastokin "
+                                 f"results ({self.marker}); choose another folder")
+        check_writable(out, opt)
 
     def __enter__(self) -> Path:
+        self.check()
         out = self.out
-        if out.exists() and not out.is_dir():
-            raise ElastokinError(f"--out {out}: exists and is not a folder")
-        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
-            raise ElastokinError(f"--out {out}: folder is not empty and holds no elastokin "
-                                 f"results ({self.marker}); choose another folder")
-        out.parent.mkdir(parents=True, exist_ok=True)
-        self.tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-        self.tmp.chmod(0o755)
+        try:
+            out.parent.mkdir(parents=True, exist_ok=True)
+            self.tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+            self.tmp.chmod(0o755)
+        except OSError as exc:
+            raise cannot_write(self.option, out, exc.strerror or str(exc)) from exc
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb) -> None:
         if exc_type is not None:
             shutil.rmtree(self.tmp, ignore_errors=True)
+            if isinstance(exc, OSError) and exc.filename and \
+                    Path(exc.filename).is_relative_to(self.tmp):
+                raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
             return
-        if self.out.exists():
-            shutil.rmtree(self.out)
-        self.tmp.rename(self.out)
+        old = None  # the previous results, moved aside: restored if the new cannot move in
+        try:
+            if self.out.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old.",
+                                            dir=self.out.parent))
+                self.out.rename(old / "previous")
+            try:
+                self.tmp.rename(self.out)
+            except OSError:
+                if old is not None and (old / "previous").exists():
+                    (old / "previous").rename(self.out)
+                raise
+        except OSError as exc:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+            if old is not None and not (old / "previous").exists():
+                shutil.rmtree(old, ignore_errors=True)
+            raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+def _one_line(message) -> str:
+    return " ".join(str(message).split())
+
+
+class WarningLog:
+    """The Python warnings issued while a command runs (:class:`warnings.catch_warnings`),
+    as readable one-line messages, each distinct message once, in the order issued. Warnings
+    meant for developers (deprecations, unclosed resources) are dropped."""
+
+    def __enter__(self) -> WarningLog:
+        self._catch = warnings.catch_warnings(record=True)
+        self._caught = self._catch.__enter__()
+        warnings.simplefilter("always")
+        for category in (DeprecationWarning, PendingDeprecationWarning, ResourceWarning):
+            warnings.simplefilter("ignore", category)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self._catch.__exit__(exc_type, exc, tb)
+
+    @property
+    def messages(self) -> list[str]:
+        out: list[str] = []
+        for w in self._caught:
+            text = _one_line(w.message)
+            if not w.category.__module__.startswith("elastokin"):
+                text = f"{w.category.__name__}: {text}"  # numpy, scipy, ...
+            if text not in out:
+                out.append(text)
+        return out
+
+    def echo(self, more: Iterable[str] = ()) -> None:
+        """Print every message (and ``more``) once as ``elastokin: warning: <message>``."""
+        shown: list[str] = []
+        for text in [*self.messages, *map(_one_line, more)]:
+            if text not in shown:
+                shown.append(text)
+                click.echo(f"elastokin: warning: {text}", err=True)
 
 
 #: ``--rig FILE`` of the commands that run the rig's load cases (kc, doe)

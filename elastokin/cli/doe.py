@@ -2,8 +2,10 @@
 
 Exit codes:
 0 every sample solved; 3 the study completed but some samples failed (doe.json counts and lists
-them); 1 bad input (one line on stderr); 130 interrupted (finished samples are kept; rerun the
-same command to resume).
+them); 1 bad input (one line on stderr; ``--out`` is checked before any solving); 2 a
+command-line usage error; 130 interrupted (finished samples are kept; rerun the same command
+to resume). The Python warnings of the study are printed once each as ``elastokin: warning:``
+lines.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import fail, rig_option
+from elastokin.cli.common import WarningLog, check_writable, fail, os_error, rig_option
 from elastokin.errors import ElastokinError
 
 EXIT_FAILED_SAMPLES = 3
@@ -36,6 +38,7 @@ def _check_out(out: Path, store_name: str) -> None:
             and not (out / "doe.json").exists():
         raise ElastokinError(f"--out {out}: folder is not empty and holds no elastokin DOE "
                              f"study ({store_name}); choose another folder")
+    check_writable(out)
 
 
 @click.command()
@@ -76,13 +79,10 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     record per sample, resumable), doe.json (distributions of steer amplitude and the
     compliance characteristics, joint sensitivity) and histogram and tornado charts.
     """
-    from tqdm import tqdm
-
     from elastokin.config.loading import load_suspension_with_rig
-    from elastokin.report.files import write_doe_results
     from elastokin.report.text import doe_table
     from elastokin.studies import doe as study_mod
-    from elastokin.studies.doe_runner import STORE, SampleStore, execute
+    from elastokin.studies.doe_runner import STORE
 
     t0 = time.perf_counter()
     out_dir = out_dir or Path("results") / f"{config_path.stem}_doe"
@@ -91,35 +91,24 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     if workers is not None and workers < 1:
         fail(f"--workers: must be at least 1, got {workers}")
     workers = workers or _cores()
-    try:
-        _check_out(out_dir, STORE)  # before any solving
-        suspension = load_suspension_with_rig(config_path, rig_path)
-        study = study_mod.make_study(suspension, samples, method, seed, load_cases)
-        store = SampleStore(out_dir / STORE, study.header(), restart)
-        if restart:
-            for old in out_dir.glob("doe*"):
-                old.unlink()
-        resumed = len(store.records)
-        if resumed and not quiet:
-            click.echo(f"resuming: {resumed} of {samples} samples already in "
-                       f"{out_dir / STORE}", err=True)
-        nominal = study_mod.nominal_characteristics(study)
-        solver = study_mod.solver_settings(study)
-        pending = samples - resumed
-        with tqdm(total=samples, initial=resumed, disable=quiet, file=sys.stderr, leave=False,
-                  unit="sample", desc="DOE samples") as bar:
-            where = execute(study, store, scheduler, workers, bar.update)
-        doc = write_doe_results(out_dir, study, store.ordered(), nominal, solver, {
-            "executed_on": where, "samples_evaluated_this_run": pending,
-            "samples_resumed": resumed, "wall_time_s": round(time.perf_counter() - t0, 3)})
-    except KeyboardInterrupt:
-        click.echo(f"elastokin: interrupted: the finished samples are saved in "
-                   f"{out_dir / 'samples.jsonl'}; rerun the same command to resume", err=True)
-        sys.exit(EXIT_INTERRUPTED)
-    except ElastokinError as exc:
-        fail(str(exc))
-    except OSError as exc:
-        fail(f"--out {out_dir}: cannot write ({exc.strerror or exc})")
+    with WarningLog() as log:
+        try:
+            _check_out(out_dir, STORE)  # before any solving
+            suspension = load_suspension_with_rig(config_path, rig_path)
+            study = study_mod.make_study(suspension, samples, method, seed, load_cases)
+            doc = _run(study, out_dir, restart, quiet, samples, scheduler, workers, t0)
+        except KeyboardInterrupt:
+            click.echo(f"elastokin: interrupted: the finished samples are saved in "
+                       f"{out_dir / 'samples.jsonl'}; rerun the same command to resume",
+                       err=True)
+            sys.exit(EXIT_INTERRUPTED)
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(f"--out {out_dir}: cannot write ({exc.strerror or exc})"
+                 if exc.filename and Path(exc.filename).is_relative_to(out_dir)
+                 else os_error(exc))
+    log.echo()
     if not quiet:
         click.echo(doe_table(doc, out_dir))
     if doc["failed"]:
@@ -129,3 +118,29 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         sys.exit(EXIT_FAILED_SAMPLES)
 
 
+def _run(study, out_dir: Path, restart: bool, quiet: bool, samples: int,
+         scheduler: str | None, workers: int, t0: float) -> dict:
+    """The study into ``out_dir`` (resumed from its samples.jsonl): doe.json's content."""
+    from tqdm import tqdm
+
+    from elastokin.report.files import write_doe_results
+    from elastokin.studies import doe as study_mod
+    from elastokin.studies.doe_runner import STORE, SampleStore, execute
+
+    store = SampleStore(out_dir / STORE, study.header(), restart)
+    if restart:
+        for old in out_dir.glob("doe*"):
+            old.unlink()
+    resumed = len(store.records)
+    if resumed and not quiet:
+        click.echo(f"resuming: {resumed} of {samples} samples already in "
+                   f"{out_dir / STORE}", err=True)
+    nominal = study_mod.nominal_characteristics(study)
+    solver = study_mod.solver_settings(study)
+    pending = samples - resumed
+    with tqdm(total=samples, initial=resumed, disable=quiet, file=sys.stderr, leave=False,
+              unit="sample", desc="DOE samples") as bar:
+        where = execute(study, store, scheduler, workers, bar.update)
+    return write_doe_results(out_dir, study, store.ordered(), nominal, solver, {
+        "executed_on": where, "samples_evaluated_this_run": pending,
+        "samples_resumed": resumed, "wall_time_s": round(time.perf_counter() - t0, 3)})

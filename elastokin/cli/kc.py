@@ -1,6 +1,7 @@
 """``elastokin kc``, ``elastokin identify`` and ``elastokin synthesize``: thin commands over
-:mod:`elastokin.studies` and :mod:`elastokin.report`. Errors in the input end in one line on
-stderr and exit code 1."""
+:mod:`elastokin.studies` and :mod:`elastokin.report`. The output is checked before any
+computation; errors in the input end in one line on stderr and exit code 1; the Python warnings
+of a run are printed once each as ``elastokin: warning: ...`` lines."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, fail, rig_option
+from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error, rig_option
 from elastokin.errors import ElastokinError
 
 
@@ -40,23 +41,30 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
     from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc
 
     out_dir = out_dir or Path("results") / config_path.stem
-    try:
-        suspension = load_suspension_with_rig(config_path, rig_path)
-        labels = model_labels(suspension)
-        stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                  + 2 * fits_stiffness(suspension))
-        with Output(out_dir) as tmp, tqdm(
-                total=stages, disable=quiet, file=sys.stderr, leave=False,
-                bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
-            def progress(msg: str) -> None:
-                bar.set_description_str(msg)
-                bar.update(1)
-            run = run_kc(suspension, progress,
-                         lambda m: bar.set_description_str(m, refresh=False))
-            progress("writing results")
-            summary = write_kc_results(run, tmp)
-    except ElastokinError as exc:
-        fail(str(exc))
+    output = Output(out_dir)
+    with WarningLog() as log:
+        try:
+            output.check()  # before any computation
+            suspension = load_suspension_with_rig(config_path, rig_path)
+            labels = model_labels(suspension)
+            stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
+                      + 2 * fits_stiffness(suspension))
+            with output as tmp, tqdm(
+                    total=stages, disable=quiet, file=sys.stderr, leave=False,
+                    bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
+                def progress(msg: str) -> None:
+                    bar.set_description_str(msg)
+                    bar.update(1)
+                run = run_kc(suspension, progress,
+                             lambda m: bar.set_description_str(m, refresh=False))
+                progress("writing results")
+                run.add_warnings(log.messages)  # into summary.json
+                summary = write_kc_results(run, tmp)
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(os_error(exc))
+    log.echo(summary["warnings"])
     if not quiet:
         click.echo(kc_table(summary, out_dir))
 
@@ -93,21 +101,27 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
     from elastokin.studies.kc_job import fit
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
-    try:
-        suspension = load_suspension(config_path)
-        say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
-        with Output(out_dir, marker="identification.json") as tmp:
-            test = read_test_sweeps(suspension)[0] if stiffness else []
-            ident = identify_geometry(suspension, progress=say)
-            result = None
-            if stiffness:
-                start = identified_suspension(ident)
-                say("fitting bushing stiffness to the K&C test data (about a minute)")
-                result = fit(suspension, ModelVariant("identified", start, design_state(start)),
-                             test)
-            files = write_identification_results(tmp, ident, result, config_path)
-    except ElastokinError as exc:
-        fail(str(exc))
+    output = Output(out_dir, marker="identification.json")
+    with WarningLog() as log:
+        try:
+            output.check()  # before any computation
+            suspension = load_suspension(config_path)
+            say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
+            with output as tmp:
+                test = read_test_sweeps(suspension)[0] if stiffness else []
+                ident = identify_geometry(suspension, progress=say)
+                result = None
+                if stiffness:
+                    start = identified_suspension(ident)
+                    say("fitting bushing stiffness to the K&C test data (about a minute)")
+                    result = fit(suspension,
+                                 ModelVariant("identified", start, design_state(start)), test)
+                files = write_identification_results(tmp, ident, result, config_path)
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(os_error(exc))
+    log.echo()
     if not quiet:
         click.echo(identification_table(ident))
         if result is not None:
@@ -145,18 +159,40 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     from elastokin.synthetic.real_suspension import write_kc_test_files
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
 
-    try:
-        s = load_suspension(config_path)
-        written = []
-        if only in (None, "cmm"):
-            files = run_synthesis(s, seed, out_dir)
-            written.append(f"wrote {len(files)} files in {files[0].parent}/: "
-                           + ", ".join(f.name for f in files))
-        if only == "kc-test" or (only is None and s.kc_test is not None
-                                 and s.kc_test.synthetic is not None):
-            files = write_kc_test_files(s, kc_test_dir, seed=seed)
-            written.append(f"wrote {len(files)} K&C test files in {files[0].parent}/: "
-                           + ", ".join(f.name for f in files))
-    except ElastokinError as exc:
-        fail(str(exc))
+    with WarningLog() as log:
+        try:
+            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir)):
+                if folder is not None:  # before any computation
+                    _check_data_folder(folder, option)
+            s = load_suspension(config_path)
+            cmm = only in (None, "cmm")
+            kc_test = only == "kc-test" or (only is None and s.kc_test is not None
+                                            and s.kc_test.synthetic is not None)
+            here = Path(s.source).parent
+            if cmm and out_dir is None and s.measurements is not None:
+                _check_data_folder(here / s.measurements.folder, "measurements.folder")
+            if kc_test and kc_test_dir is None and s.kc_test is not None:
+                _check_data_folder(here / s.kc_test.folder, "kc_test.folder")
+            written = []
+            if cmm:
+                files = run_synthesis(s, seed, out_dir)
+                written.append(f"wrote {len(files)} files in {files[0].parent}/: "
+                               + ", ".join(f.name for f in files))
+            if kc_test:
+                files = write_kc_test_files(s, kc_test_dir, seed=seed)
+                written.append(f"wrote {len(files)} K&C test files in {files[0].parent}/: "
+                               + ", ".join(f.name for f in files))
+        except ElastokinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(os_error(exc))
+    log.echo()
     click.echo("\n".join(written))
+
+
+def _check_data_folder(folder: Path, option: str) -> None:
+    """A folder synthesize writes its files into (keeping other files): not a file, and
+    writable."""
+    if folder.exists() and not folder.is_dir():
+        raise ElastokinError(f"{option} {folder}: exists and is not a folder")
+    check_writable(folder, option)

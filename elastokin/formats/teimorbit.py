@@ -230,8 +230,9 @@ def _error(path: str, line: int | None, block: str | None, msg: str) -> ConfigEr
 
 
 def _show(text: str, limit: int = 60) -> str:
-    """``repr`` of a line's text for a message, cut to about ``limit`` characters."""
-    return repr(text if len(text) <= limit else text[:limit] + "...")
+    """``repr`` of a line's text for a message, cut after ``limit`` characters."""
+    r = repr(text)
+    return r if len(r) <= limit else r[:limit] + "..."
 
 
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")

@@ -264,20 +264,16 @@ def _fits(local: np.ndarray, measured: np.ndarray, eps_mm: float, part: str) -> 
 def _unit_hint(parts: dict[str, PartMeasurement], assembled: dict[str, np.ndarray], part: str,
                eps_mm: float, assembly_file: str) -> str:
     """When a part's marks match no ordering: the common unit factor after which they would
-    (the distance test [8-9] is scale-sensitive), and the file whose unit flag to check: the
-    part's file, or the assembly's when every part fits only after the same scaling."""
-    for k, (factor, shown) in enumerate(_UNIT_SCALES):
-        if not _fits(parts[part].marks * factor, assembled[part], eps_mm, part):
-            continue
-        others = [q for q in parts if q != part]
-        if others and all(not _fits(parts[q].marks, assembled[q], eps_mm, q)
-                          and _fits(parts[q].marks * factor, assembled[q], eps_mm, q)
-                          for q in others):
-            inverse = _UNIT_SCALES[k ^ 1][1]  # the factors come in inverse pairs
-            return (f"; every part's marks fit after scaling the assembled marks by {inverse}: "
+    (the distance test [8-9] is scale-sensitive) and the file whose unit flag to check: the
+    assembly's when every part fits after scaling the assembled marks, else the part's."""
+    for factor, shown in _UNIT_SCALES:
+        if all(_fits(parts[q].marks, assembled[q] * factor, eps_mm, q) for q in parts):
+            return (f"; every part's marks fit after scaling the assembled marks by {shown}: "
                     f"check the unit flag of {assembly_file}")
-        return (f"; the marks fit after scaling by {shown}: check the unit flag of "
-                f"{parts[part].source}")
+    for factor, shown in _UNIT_SCALES:
+        if _fits(parts[part].marks * factor, assembled[part], eps_mm, part):
+            return (f"; the marks fit after scaling by {shown}: check the unit flag of "
+                    f"{parts[part].source}")
     return ""
 
 

@@ -116,6 +116,39 @@ def degrees_of_freedom(model: SuspensionModel, support: str, held: bool) -> dict
         mbs.Assemble()
 
 
+def redundant_joints(model: SuspensionModel, support: str) -> list[str]:
+    """The joints (and links) taking part in a redundancy at the design position: the rows of
+    the constraint Jacobian with weight in its left null space (combinations of equations
+    that add up to nothing)."""
+    mbs = model.mbs
+    mbs.SetObjectParameter(model.supports[support]["object"], "activeConnector", False)
+    jac = _constraint_jacobian(model)
+    n2 = mbs.systemData.ODE2Size()
+    cq = jac[n2:, :n2]
+    u, sv, _ = np.linalg.svd(cq)
+    rank = int(np.sum(sv > 1e-9 * sv[0]))
+    weight = np.linalg.norm(u[:, rank:], axis=1)
+    involved = set(np.flatnonzero(weight > 1e-6).tolist())
+    owners = {f"joint {n}": o for n, o in model.joints.items()}
+    owners.update({f"link {n}": o for n, o in model.links.items()})
+    for b in model.suspension.bushings:
+        ideal = model.bushings[b.name].get("ideal")
+        if ideal is not None:
+            owners[f"bushing {b.name} (as {b.ideal_joint})"] = ideal
+    return [name for name, o in owners.items()
+            if involved & set(mbs.systemData.GetObjectLTGAE(o))]
+
+
+def _constraint_jacobian(model: SuspensionModel) -> np.ndarray:
+    mbs, src = model.mbs, model.suspension.source
+    mbs.Assemble()
+    solver = exu.MainSolverStatic()
+    ss = simulation_settings(model, 1)
+    exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
+    exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{src}: assembly check")
+    return np.asarray(solver.GetSystemJacobian())
+
+
 def check_assembly(suspension: Suspension) -> None:
     """Raise :class:`ModelError` when the ideal joints (every bushing counted as its ideal
     joint) are redundant (over-constrained) or, with the contact patch height held, leave the
@@ -125,10 +158,12 @@ def check_assembly(suspension: Suspension) -> None:
     src = suspension.source
     redundant = int(degrees_of_freedom(model, support, False)["redundantConstraints"])
     if redundant > 0:
+        names = ", ".join(redundant_joints(model, support)) or "unknown"
         raise ModelError(
             f"{src}: the assembly is over-constrained: {redundant} redundant constraint "
-            "equation(s) among the joints (in the kinematic model each bushing counts as "
-            "its ideal_joint); remove a joint or free one of its axes")
+            f"equation(s) among the joints (in the kinematic model each bushing counts as "
+            f"its ideal_joint); joints involved: {names}; remove a joint or free one of its "
+            "axes")
     if degrees_of_freedom(model, support, True)["redundantConstraints"] > 0:
         raise ModelError(
             f"{src}: the joints hold the wheel part '{suspension.wheel.part}' rigidly "
@@ -140,13 +175,8 @@ def _check_wheel_located(model: SuspensionModel, support: str) -> None:
     mbs, src = model.mbs, model.suspension.source
     obj = model.supports[support]["object"]
     mbs.SetObjectParameter(obj, "activeConnector", True)
-    mbs.Assemble()
     try:
-        solver = exu.MainSolverStatic()
-        ss = simulation_settings(model, 1)
-        exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
-        exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{src}: assembly check")
-        jac = np.asarray(solver.GetSystemJacobian())
+        jac = _constraint_jacobian(model)
     finally:
         mbs.SetObjectParameter(obj, "activeConnector", False)
         mbs.Assemble()
@@ -158,10 +188,15 @@ def _check_wheel_located(model: SuspensionModel, support: str) -> None:
     wheel = model.wheel_part
     i0 = mbs.GetNodeODE2Index(model.node[wheel])
     if null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6:
+        free = null[:, np.argmax(np.linalg.norm(null[i0:i0 + 6], axis=0))]
+        moving = [p for p, n in model.node.items()
+                  if np.linalg.norm(free[mbs.GetNodeODE2Index(n):][:6]) > 1e-3 *
+                  np.linalg.norm(free[i0:i0 + 6])]
         raise ModelError(
             f"{src}: the assembly is under-constrained: with bushings replaced by their "
             f"ideal joints and the contact patch held, the wheel part '{wheel}' can still "
-            "move; a joint, link or the steering (tie rod / rack) is missing")
+            f"move (parts moving in the free motion: {', '.join(moving)}); a joint, link or "
+            "the steering (tie rod / rack) is missing")
 
 
 def build_model(variant: ModelVariant | Suspension, options: ModelOptions = ModelOptions(),
@@ -175,3 +210,19 @@ def build_model(variant: ModelVariant | Suspension, options: ModelOptions = Mode
     if any(b.kinematic for b in variant.suspension.bushings):
         hold_idle_spins(model)
     return model
+
+
+def settle_by_continuation(models: list[SuspensionModel]) -> SuspensionModel:
+    """Continuation from one geometry to another (e.g. nominal to as-built in a few steps):
+    each model's static state with the contact patch held at its design height is solved
+    starting where the previous one settled, and the last model then starts every solve
+    there. The models must have the same parts. Returns the last model."""
+    start = None
+    for model in models:
+        if start is not None:
+            model.start_from(start)
+        support = hold_contact_patch(model)
+        solve_path(model, {support: np.zeros((1, 6))}, "settling by continuation")
+        start = model.coordinates()
+    models[-1].start_from(start)
+    return models[-1]

@@ -372,6 +372,21 @@ class SuspensionModel:
             writeToFile=False))
         return name
 
+    def start_from(self, coordinates) -> None:
+        """Make every later solve start from these coordinates (every body's displacement and
+        rotation parameters, as :meth:`coordinates` returns them) instead of the design
+        position: a start close to the solution for a model whose design state is far from
+        equilibrium (:func:`elastokin.mbs.design.settle_by_continuation`)."""
+        q = np.asarray(coordinates, float)
+        for node in self.node.values():
+            i0 = self.mbs.GetNodeODE2Index(node)
+            self.mbs.SetNodeParameter(node, "initialCoordinates", q[i0:i0 + 6].tolist())
+        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: setting the start")
+
+    def coordinates(self) -> np.ndarray:
+        """The bodies' coordinates in the current (last solved) state."""
+        return np.array(self.mbs.systemData.GetODE2Coordinates())
+
     # ------------------------------------------------------------------ reading the state
     def part_poses(self) -> PartPoses:
         """Poses of every moving part in the current (last solved) state."""

@@ -9,7 +9,7 @@ from pathlib import Path
 
 def kc_table(summary: dict, out_dir: Path) -> str:
     """The K&C run's summary: provenance, static bushing table, characteristics, errors and
-    the fitted stiffness."""
+    the fitted stiffness (its warnings are printed apart, as ``elastokin: warning:`` lines)."""
     lines = [f"elastokin {summary['elastokin_version']} (exudyn {summary['exudyn_version']}), "
              f"config {summary['config_file']} sha256 {summary['config_sha256'][:12]}"
              + (f", rig {summary['rig_file']}" if summary.get("rig_file") else ""), ""]
@@ -47,7 +47,7 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
-    lines += [f"  warning: {w}" for w in summary.get("warnings", [])]
+    # summary["warnings"] are not repeated here: `elastokin kc` prints each once on stderr
     fit = summary.get("stiffness_identification")
     if fit:
         lines += ["", "Bushing stiffness fitted to the test (model identified_stiffness; "

@@ -126,8 +126,9 @@ def drives(suspension: Suspension, rig: RigSpec | None = None,
 
 def run_drive(model: SuspensionModel, label: str, drive: Drive) -> Sweep:
     """The sweep of ``drive`` on ``model`` (the pad attached when it is not yet)."""
-    states = run_pad(model, drive.pad_z_mm, drive.pad_loads, drive.centre_loads,
-                     what=f"model '{label}', {drive.load_case}")
+    rig = model.suspension.rig_source
+    what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
+    states = run_pad(model, drive.pad_z_mm, drive.pad_loads, drive.centre_loads, what=what)
     cols = {"branch": drive.branch, drive.input_column: drive.inputs}
     keep = drive.recorded
     if keep is not None:

@@ -21,8 +21,8 @@ import numpy as np
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
-from elastokin.errors import ConfigError, ElastokinError
-from elastokin.mbs.design import build_model, design_state
+from elastokin.errors import ConfigError, ElastokinError, SolverError
+from elastokin.mbs.design import build_model, design_state, settle_by_continuation
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.load_cases import drives, parallel_travel_drive, run_drive
 from elastokin.studies.doe_sampling import (
@@ -83,6 +83,21 @@ def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design
     return build_model(as_built(suspension, shifts, design).variant())
 
 
+#: fractions of the clearance shifts solved in turn when a sample's direct solve fails
+CONTINUATION = (0.25, 0.5, 0.75, 1.0)
+
+
+def as_built_model_by_continuation(suspension: Suspension, shifts: dict[str, np.ndarray],
+                                   design):
+    """:func:`as_built_model`, started from its settled state, reached by continuation from
+    the nominal geometry through :data:`CONTINUATION` fractions of the shifts: a large
+    clearance shift of a stiff bushing (J2, 13000 N/mm, shifted 0.69 mm: 9 kN out of balance
+    at the design position) is too far from equilibrium for Newton's first step."""
+    models = [as_built_model(suspension, {k: f * np.asarray(v, float) for k, v in shifts.items()},
+                             design) for f in CONTINUATION]
+    return settle_by_continuation(models)
+
+
 def travel_sweep(model, label: str = "sample", spec=None):
     """Parallel wheel travel as the K&C job's (same stroke, same columns), the approach from
     the design position solved in steps of at most :data:`APPROACH_STEP_MM` and left out, no
@@ -114,8 +129,14 @@ def evaluate_sample(job: dict, index: int, shifts: dict[str, list[float]]) -> di
                                                   for k, v in shifts.items()}}
     try:
         s, design = _context(job)
-        model = as_built_model(s, {k: np.asarray(v, float) for k, v in shifts.items()}, design)
-        values = model_characteristics(model, job["load_cases"], f"sample {index}")
+        sh = {k: np.asarray(v, float) for k, v in shifts.items()}
+        try:
+            model = as_built_model(s, sh, design)
+            values = model_characteristics(model, job["load_cases"], f"sample {index}")
+        except SolverError:  # far from equilibrium at the design position: continuation
+            model = as_built_model_by_continuation(s, sh, design)
+            values = model_characteristics(model, job["load_cases"], f"sample {index}")
+            record["solved_by"] = "continuation from the nominal geometry"
         record.update(status="ok", error=None, characteristics=values)
     except ElastokinError as exc:
         record.update(status="failed", error=str(exc), characteristics={})

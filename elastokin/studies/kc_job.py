@@ -82,7 +82,13 @@ class KCRun:
     identification: Identification | None = None
     errors: dict[str, dict] = field(default_factory=dict)  # model -> errors against the test
     stiffness: StiffnessFit | None = None  # bushing-stiffness identification, with test data
-    warnings: list[str] = field(default_factory=list)  # on comparing the models with the test
+    # on comparing the models with the test, and the Python warnings of the run (add_warnings)
+    warnings: list[str] = field(default_factory=list)
+
+    def add_warnings(self, messages: list[str]) -> None:
+        """Add warnings issued while the run was made (e.g. by ``elastokin kc``: the Python
+        warnings it caught), each distinct message once; they go into summary.json."""
+        self.warnings += [m for m in dict.fromkeys(messages) if m not in self.warnings]
 
 
 # ------------------------------------------------------------------------------- the steps
