@@ -107,8 +107,12 @@ def _yaml_problem(exc: yaml.YAMLError, text: bytes | str) -> tuple[str, str]:
         where = f" line {decoded[:position].count(chr(10)) + 1}"
     problem = getattr(exc, "problem", None)
     context = getattr(exc, "context", None)
+    start = getattr(exc, "context_mark", None)
     if problem and context:
-        problem = f"{context}: {problem}"
+        began = ""
+        if start is not None and mark is not None and start.line != mark.line:
+            began = f" (from line {start.line + 1})"
+        problem = f"{context}{began}: {problem}"
     return where, _one_line(problem or (str(exc).splitlines() or [type(exc).__name__])[0])
 
 
@@ -238,6 +242,8 @@ def _problem(e: dict, data: object, root: type[BaseModel] | None,
         return parent, f"{where} key '{loc[-1]}'{_suggestion(loc[-1], known)}"
     msg = re.sub(r"^(Value error|Assertion failed), ", "", e["msg"])
     msg = re.sub(r" or instance of \w+", "", msg)
+    if kind == "missing":
+        msg = "required key is missing"
     return path, msg
 
 
@@ -250,29 +256,20 @@ def format_validation_error(path: str, err: ValidationError, data: object = None
     whose error goes deepest speaks."""
     errors = err.errors()
     found = [(e, *_problem(e, data, root, prefix)) for e in errors]
+    unknown = [f"{path}: {msg}" for e, _, msg in found if e["type"] == "extra_forbidden"]
     groups: dict[tuple, list] = {}
     for e, loc, msg in found:
-        groups.setdefault(loc, []).append((e, msg))
+        if e["type"] != "extra_forbidden":
+            groups.setdefault(loc, []).append((e, msg))
     deeper = {loc[:i] for loc in groups for i in range(len(loc))}
-
-    def mismatch(e: dict) -> bool:
-        return bool(_TYPE_MISMATCH.match(e["type"]))
-
-    problems = []
+    lines = list(dict.fromkeys(unknown))
     for loc, items in groups.items():
-        kept = [(e, m) for e, m in items if not mismatch(e)]
+        kept = [(e, m) for e, m in items if not _TYPE_MISMATCH.match(e["type"])]
         if not kept and loc in deeper:
             continue  # another member of the union got further: its error speaks
-        items = kept or items
-        extra = any(e["type"] == "extra_forbidden" for e, _ in items)
-        messages = list(dict.fromkeys(m for _, m in items))
-        text = ("; " if kept else "; or ").join(messages)
-        if extra:
-            problems.append((0, [f"{path}: {m}" for m in messages]))
-        else:
-            key = yaml_key_path(loc)
-            problems.append((1, [f"{path}: key '{key}': {text}" if key else f"{path}: {text}"]))
-    lines = [line for _, group in sorted(problems, key=lambda p: p[0]) for line in group]
+        text = ("; " if kept else "; or ").join(dict.fromkeys(m for _, m in kept or items))
+        key = yaml_key_path(loc)
+        lines.append(f"{path}: key '{key}': {text}" if key else f"{path}: {text}")
     if not lines:  # cannot happen; never hide the error
         lines = [f"{path}: {_one_line(str(err))}"]
     n = len(lines) - 1

@@ -304,11 +304,13 @@ _IGES_DE_FIELDS = (
      (32, 40, "form number"), (64, 72, "subscript number")))
 
 
-def _iges_int(text: str) -> int | None:
+def _is_iges_int(text: str) -> bool:
+    """An integer field as pyiges reads it (blank: default)."""
     try:
-        return int(text.strip()) if text.strip() else None
+        int(text.strip() or "0")
     except ValueError:
-        return -1
+        return False
+    return True
 
 
 def _check_iges_fields(bad: str, lines: list[str]) -> None:
@@ -320,16 +322,17 @@ def _check_iges_fields(bad: str, lines: list[str]) -> None:
         if line[72] == "D":
             for a, b, name in _IGES_DE_FIELDS[d_count % 2]:
                 cell = line[a:b].replace(" ", "0") if name == "status number" else line[a:b]
-                if _iges_int(cell) == -1:
+                if not _is_iges_int(cell):
                     raise MeasurementError(f"{bad}: line {n}, columns {a + 1}-{b}: "
                                            f"'{line[a:b].strip()}' is not an integer ({name})")
-            if _iges_int(line[73:]) in (None, -1):
+            if not line[73:].strip().isdigit():
                 raise MeasurementError(f"{bad}: line {n}, columns 74-80: sequence number "
                                        f"'{line[73:].strip()}' is not an integer")
             if d_count % 2 == 0:
                 first_lines.add(int(line[73:]))
             d_count += 1
-        elif line[72] == "P" and _iges_int(line[64:72]) not in first_lines:
+        elif line[72] == "P" and not (line[64:72].strip().isdigit()
+                                      and int(line[64:72]) in first_lines):
             raise MeasurementError(f"{bad}: line {n}, columns 65-72: '{line[64:72].strip()}' "
                                    "is not the sequence number of a directory entry")
 

@@ -225,13 +225,15 @@ def _read_text(p: Path) -> str:
         raise MeasurementError(f"{p}: UTF-16 text; save the CSV file as UTF-8")
     if b"\0" in data:
         k = data.index(b"\0")
-        raise MeasurementError(f"{p}: line {data.count(10, 0, k) + 1}: binary data (a NUL byte "
-                               f"at byte {k}); expected a K&C test CSV file (UTF-8 text)")
+        line = data.count(b"\n", 0, k) + 1
+        raise MeasurementError(f"{p}: line {line}: binary data (a NUL byte at byte {k}); "
+                               "expected a K&C test CSV file (UTF-8 text)")
     try:
         return data.decode("utf-8").removeprefix("\ufeff")
     except UnicodeDecodeError as exc:
-        raise MeasurementError(f"{p}: line {data.count(10, 0, exc.start) + 1}: not UTF-8 text "
-                               f"(byte {exc.start}); save the CSV file as UTF-8") from None
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise MeasurementError(f"{p}: line {line}: not UTF-8 text (byte {exc.start}); save the "
+                               "CSV file as UTF-8") from None
 
 
 def _read_comments(p: Path, lines: Sequence[str]

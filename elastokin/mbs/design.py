@@ -51,6 +51,7 @@ def design_state(suspension: Suspension) -> DesignState:
     if d.balance_spring is None and not d.balance_bushing_preloads:
         return DesignState(springs, preload)
     ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
+    idle = [False]  # idle spins held: only when the plain balancing does not solve
 
     def solve(p: float):
         forces = dict(springs)
@@ -58,7 +59,7 @@ def design_state(suspension: Suspension) -> DesignState:
             forces[d.balance_spring] = p
         model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
                                 balancing=ideal)
-        if ideal:
+        if idle[0]:
             hold_idle_spins(model)
         support = hold_contact_patch(model)
         state = solve_path(model, {support: np.zeros((1, 6))},
@@ -66,10 +67,22 @@ def design_state(suspension: Suspension) -> DesignState:
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
         return float(0.0 + state.support_force_N[support][2]), loads
 
+    def balance():
+        if d.balance_spring is None:
+            return None, solve(0.0)[1]
+        return _balance_spring(s, solve)
+
+    try:
+        p1, loads = balance()
+    except SolverError:
+        # e.g. spring seats off the strut axis turn the strut rod, which only the ideal
+        # joints' regularising rates hold: again with the idle spins held (mbs.idle)
+        if not ideal:
+            raise
+        idle[0] = True
+        p1, loads = balance()
     if d.balance_spring is None:
-        _, loads = solve(0.0)
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
-    p1, loads = _balance_spring(s, solve)
     springs[d.balance_spring] = float(p1)
     if ideal:
         preload = {n: v.copy() for n, v in loads.items()}
