@@ -56,7 +56,7 @@ def _sha(path: Path) -> str:
               help="Bushing property file for an elastokin bushing (repeatable; overrides the "
                    "mapping file's 'bushings').")
 @click.option("--out", "out_path", required=True,
-              type=click.Path(dir_okay=False, path_type=Path),
+              type=click.Path(path_type=Path), metavar="FILE",
               help="The new elastokin config (YAML); written only when it is valid.")
 def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
                  bushings: tuple[str, ...], out_path: Path) -> None:
@@ -76,7 +76,9 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
                                          f"template {template_path}")
             bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
             _keep_data_folders(cfg, template_path, out_path)
-            suspension_from_dict(cfg, str(out_path))  # the new config must be valid
+            # the new config must be valid; an error names the template it was made from
+            suspension_from_dict(cfg, f"{out_path} (the template {template_path} with the "
+                                      "ADAMS hardpoints and bushings)")
             sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
                        f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
                        f"template {template_path} (sha256 {_sha(template_path)})",
@@ -139,7 +141,7 @@ def _write_atomically(out_path: Path, text: str) -> None:
               type=click.Path(dir_okay=False, path_type=Path),
               help="elastokin config (e.g. identified.yaml written by 'elastokin identify').")
 @click.option("--out", "out_dir", required=True,
-              type=click.Path(file_okay=False, path_type=Path),
+              type=click.Path(path_type=Path), metavar="DIRECTORY",
               help="Folder for the ADAMS/Car files; replaced as a whole when the export "
                    "succeeds.")
 @click.option("--identified", is_flag=True,

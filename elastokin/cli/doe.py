@@ -63,7 +63,7 @@ def _check_out(out: Path, store_name: str) -> None:
 @click.option("--workers", type=int, default=None, show_default="all cores",
               help="Worker processes of the LocalCluster; 1 runs serially without dask. "
                    "Ignored with --scheduler.")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="results/<config name>_doe",
               help="Folder for samples.jsonl, doe.json, doe_run.json and the charts.")
 @click.option("--restart", is_flag=True,

@@ -18,7 +18,7 @@ from elastokin.errors import ElastokinError
 @click.option("--config", "config_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Suspension config file (YAML, see README 'Config reference').")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="results/<config name>",
               help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
                    "the run succeeds, untouched when it fails.")
@@ -73,7 +73,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
 @click.option("--config", "config_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Suspension config with a 'measurements' section (docs/measurements.md).")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="results/<config name>-identified",
               help="Folder for identified.yaml, initial.yaml, identification.json and "
                    "identification.txt; replaced as a whole when the run succeeds.")
@@ -135,10 +135,10 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
               help="Nominal suspension config with a 'measurements' section.")
 @click.option("--seed", type=int, default=None,
               help="Random seed (default: measurements.synthetic.seed of the config).")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's measurements.folder",
               help="Folder for the CMM files (the config's measurements.folder by default).")
-@click.option("--kc-test-out", "kc_test_dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--kc-test-out", "kc_test_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's kc_test.folder",
               help="Folder for the synthetic K&C test files.")
 @click.option("--only", type=click.Choice(["cmm", "kc-test"]), default=None,

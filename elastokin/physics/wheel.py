@@ -59,14 +59,20 @@ def windowed_slope(x, y, half_width: float) -> float:
     data have inside it (at least 3). A grid that stops short of one end (the rig's pad steps
     give wheel travel of -49.1 ... +49.96 mm for a +-50 mm window) would bias the slope of a
     curved characteristic. When the data do not reach +-``half_width``, the largest symmetric
-    window they cover is used."""
+    window they cover is used; data on one side of 0 only are fitted where they lie in the
+    window."""
     x = np.asarray(x, float)
     y = np.asarray(y, float)
     order = np.argsort(x)
     xs, ys = x[order], y[order]
-    if xs.size < 2 or not xs[0] < 0.0 < xs[-1]:
-        raise ValueError("need points on both sides of 0 to fit a slope over a window about 0")
-    w = min(float(half_width), -float(xs[0]), float(xs[-1]))
-    n = max(3, int(np.count_nonzero(np.abs(xs) <= w)))
-    grid = np.linspace(-w, w, n)
+    if xs.size < 2:
+        raise ValueError("need at least two distinct points to fit a slope")
+    lo, hi = max(-float(half_width), float(xs[0])), min(float(half_width), float(xs[-1]))
+    if lo < 0.0 < hi:
+        hi = min(-lo, hi)
+        lo = -hi
+    if not hi > lo:
+        raise ValueError("need at least two distinct points in the window to fit a slope")
+    n = max(3, int(np.count_nonzero((xs >= lo) & (xs <= hi))))
+    grid = np.linspace(lo, hi, n)
     return slope(grid, np.interp(grid, xs, ys))

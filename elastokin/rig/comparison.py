@@ -11,8 +11,10 @@ RMS is over the test points inside the model's input range. Units of the columns
 from __future__ import annotations
 
 import numpy as np
+from pydantic import ValidationError
 
 from elastokin.config.schema import RigSpec
+from elastokin.errors import MeasurementError
 from elastokin.rig.channels import ERRORS, LOAD_CASES
 from elastokin.rig.sweeps import Sweep, find_sweep
 
@@ -50,7 +52,15 @@ def rig_for_test(test: list[Sweep], rig: RigSpec) -> RigSpec:
             h = base.step_Nmm if torque else base.step_N
             fields[name] = base.model_copy(update={
                 "amplitude_Nmm" if torque else "amplitude_N": max(h, steps(max(-lo, hi), h))})
-    return RigSpec(**fields)
+    # validated again: the test's input ranges must give a rig within the step bounds
+    data = {k: (v.model_dump() if v is not None else None) for k, v in fields.items()}
+    try:
+        return RigSpec.model_validate(data)
+    except ValidationError as err:
+        problem = err.errors()[0]
+        where = ".".join(str(p) for p in problem["loc"])
+        raise MeasurementError(f"K&C test data: the rig that runs them ({where}): "
+                               f"{problem['msg'].removeprefix('Value error, ')}") from None
 
 
 def travel_stroke_note(models: dict[str, list[Sweep]], test: list[Sweep]) -> str | None:
