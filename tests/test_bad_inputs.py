@@ -254,6 +254,9 @@ CONFIG_CASES = [
     kc("NaN in a hardpoint", ["hardpoints.J1"], text=_text(
         "hardpoints:\n  J1:\n  - -294.7", "hardpoints:\n  J1:\n  - .nan"),
        xfail="config (NaN/inf values)"),
+    case("a folder as config file", "kc", lambda f: [
+        "--config", str(Path(f.file("folder.yaml/x", "")).parent)],
+        ["--config", "folder.yaml", "is a directory"], code=2, kind="config"),
     case("missing kc_test file", "kc", lambda f: ["--config", f.config(_set(
         "kc_test", {"folder": ".", "files": {"lateral_force": "lateral_2024.csv"}}))],
         ["bad.yaml", "kc_test.files.lateral_force", "lateral_2024.csv"], kind="config"),
@@ -268,6 +271,10 @@ def rig(name, text, expected, xfail=None):
 
 
 RIG_CASES = [
+    case("a folder as rig file", "kc", lambda f: [
+        "--config", f.config(name="nominal.yaml"),
+        "--rig", str(Path(f.file("rig.yaml/x", "")).parent)],
+        ["--rig", "rig.yaml", "is a directory"], code=2, kind="rig file"),
     rig("negative amplitude", "lateral_force: {amplitude_N: -5}\n" + NO_OTHER_CASES.replace(
         "lateral_force: null\n", ""), ["lateral_force.amplitude_N", "greater than 0"]),
     rig("misspelt load case", "rig: {lateral_forse: null}\n", ["lateral_forse"]),
@@ -312,6 +319,12 @@ def _zip_bytes() -> bytes:
     return buf.getvalue()
 
 
+def _kc_test_folder(f: Inputs) -> list[str]:
+    (f.tmp / "lateral_force.csv").mkdir()
+    return ["--config", f.config(_set("kc_test", {"folder": ".", "files": {
+        "lateral_force": "lateral_force.csv"}}))]
+
+
 KC_TEST_CASES = [
     kct("missing required channel", "wheel_travel [mm],camber [deg]\n0,0\n90,1\n",
         ["'toe [deg]'"], file="parallel_travel.csv", load_case="parallel_travel"),
@@ -338,6 +351,8 @@ KC_TEST_CASES = [
         ["not monotonic"]),
     kct("another load case", "# load_case: aligning_torque\naligning_torque [N*mm],toe [deg]\n"
         "0,0\n1,0.1\n2,0.2\n", ["load case 'aligning_torque'"]),
+    case("a folder as K&C test file", "kc", lambda f: _kc_test_folder(f),
+         ["lateral_force.csv"], kind="K&C test CSV"),
     kct("binary file (a zip)", _zip_bytes(), [], xfail="formats (unreadable files)"),
 ]
 
@@ -403,6 +418,8 @@ CMM_CASES = [
         mutate=_del("measurements", "parts", "strut_rod")),
     cmm("missing measurement folder", ["nowhere"],
         mutate=_set("measurements", "folder", "nowhere")),
+    cmm("a folder as IGES file", ["rear_arm.igs"], files=lambda folder: (
+        (folder / "rear_arm.igs").unlink(), (folder / "rear_arm.igs").mkdir())),
     cmm("truncated IGES", ["rear_arm.igs"], files=_truncate, xfail="formats (unreadable files)"),
 ]
 
@@ -664,8 +681,8 @@ def test_read_only_parent_folder(tmp_path):
     root, who can write anywhere: skipped then; the under-a-file cases cover root)."""
     if os.geteuid() == 0:
         pytest.skip("running as root: chmod 0o555 does not stop root from writing, so a "
-                    "read-only folder cannot be made (the '--out under a file' cases cover "
-                    "the same check)")
+                    "read-only folder cannot be made (the '--out under a file' cases and "
+                    "test_unwritable_folder_refused_before_computing cover the same check)")
     parent = tmp_path / "ro"
     parent.mkdir()
     config = Inputs(tmp_path).config(name="nominal.yaml")
@@ -678,6 +695,33 @@ def test_read_only_parent_folder(tmp_path):
     assert result.exit_code == 1
     assert result.output.strip() == (f"elastokin: error: --out {parent / 'res'}: cannot write "
                                      "(Permission denied)")
+
+
+@pytest.mark.parametrize("command", ["kc", "identify", "doe", "export-adams", "synthesize",
+                                     "import-adams"])
+def test_unwritable_folder_refused_before_computing(tmp_path, monkeypatch, command):
+    """A folder in which no file can be created (the OS says so: read-only, no permission),
+    simulated so that it fails for root too: one line, nothing written."""
+    from elastokin.cli import common
+
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real = common.tempfile.mkstemp
+
+    def mkstemp(*args, dir=None, **kwargs):
+        if dir is not None and Path(dir) == locked:
+            raise PermissionError(13, "Permission denied", str(locked))
+        return real(*args, dir=dir, **kwargs)
+
+    monkeypatch.setattr(common.tempfile, "mkstemp", mkstemp)
+    args = VALID[command](Inputs(tmp_path))
+    out = locked / ("new.yaml" if command == "import-adams" else "res")
+    before = snapshot(tmp_path)
+    result = CliRunner().invoke(main, [command, *args, "--out", str(out)])
+    assert result.exit_code == 1, result.output
+    assert result.output.strip() == (f"elastokin: error: --out {out}: cannot write "
+                                     "(Permission denied)")
+    assert snapshot(tmp_path) == before
 
 
 def test_failed_move_keeps_the_earlier_results(tmp_path, monkeypatch):

@@ -87,7 +87,7 @@ class Output:
     def __exit__(self, exc_type, exc, tb) -> None:
         if exc_type is not None:
             shutil.rmtree(self.tmp, ignore_errors=True)
-            if isinstance(exc, OSError) and exc.filename and \
+            if isinstance(exc, OSError) and isinstance(exc.filename, str) and \
                     Path(exc.filename).is_relative_to(self.tmp):
                 raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
             return
@@ -134,22 +134,19 @@ class WarningLog:
 
     @property
     def messages(self) -> list[str]:
-        out: list[str] = []
+        out: dict[str, None] = {}
         for w in self._caught:
             text = _one_line(w.message)
             if not w.category.__module__.startswith("elastokin"):
                 text = f"{w.category.__name__}: {text}"  # numpy, scipy, ...
-            if text not in out:
-                out.append(text)
-        return out
+            out[text] = None
+        return list(out)
 
-    def echo(self, more: Iterable[str] = ()) -> None:
-        """Print every message (and ``more``) once as ``elastokin: warning: <message>``."""
-        shown: list[str] = []
-        for text in [*self.messages, *map(_one_line, more)]:
-            if text not in shown:
-                shown.append(text)
-                click.echo(f"elastokin: warning: {text}", err=True)
+    def echo(self, first: Iterable[str] = ()) -> None:
+        """Print ``first`` (warnings the command collected itself), then every caught
+        warning, each distinct message once, as ``elastokin: warning: <message>``."""
+        for text in dict.fromkeys([*map(_one_line, first), *self.messages]):
+            click.echo(f"elastokin: warning: {text}", err=True)
 
 
 #: ``--rig FILE`` of the commands that run the rig's load cases (kc, doe)

@@ -106,7 +106,8 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
             fail(str(exc))
         except OSError as exc:
             fail(f"--out {out_dir}: cannot write ({exc.strerror or exc})"
-                 if exc.filename and Path(exc.filename).is_relative_to(out_dir)
+                 if isinstance(exc.filename, str)
+                 and Path(exc.filename).is_relative_to(out_dir)
                  else os_error(exc))
     log.echo()
     if not quiet:
