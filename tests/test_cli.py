@@ -42,6 +42,7 @@ def test_summary_contract(kc_out, case):
     assert init["steer_amplitude_deg"] == pytest.approx(0.3634, abs=0.005)
 
 
+@pytest.mark.slow  # elastokin kc end to end (every load case)
 def test_nominal_model_regression(case_dict, tmp_path):
     """Without measurements the config's own (Table 2) geometry is the initial model."""
     path = tmp_path / "nominal.yaml"
@@ -143,6 +144,7 @@ def test_bad_input_one_clear_line(case_dict, tmp_path, case_name):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".out")]
 
 
+@pytest.mark.slow  # elastokin kc end to end, twice
 def test_failed_run_keeps_previous_results(case_dict, tmp_path):
     out, good = tmp_path / "out", tmp_path / "good.yaml"
     good.write_text(yaml.safe_dump(case_dict))  # the nominal model: no fit, a quick run

@@ -12,6 +12,7 @@ The rig is each config's in few, large steps, so that the whole contract runs in
 from __future__ import annotations
 
 import copy
+import dataclasses
 import pickle
 from pathlib import Path
 
@@ -93,8 +94,12 @@ def _fitted_stiffness():
 def _friction():
     from elastokin.synthetic.real_suspension import real_suspension_variant
 
-    return real_suspension_variant(suspension_from_dict(
+    variant = real_suspension_variant(suspension_from_dict(
         with_coarse_rig(read_yaml(CASE)[0]), str(CASE)))
+    # one solver step per rig step (the shipped 4 follow the slip more finely): the contract's
+    # invariants do not depend on it, and the friction model solves step by step (slow)
+    return dataclasses.replace(variant, friction=dataclasses.replace(variant.friction,
+                                                                     substeps=1))
 
 
 def _imported_from_adams(tmp_path_factory=None):

@@ -186,6 +186,7 @@ def test_failed_samples_are_recorded_and_reported(case_path, tmp_path):
         (tmp_path / "dask" / "doe.json").read_bytes()
 
 
+@pytest.mark.slow  # two DOE studies end to end
 def test_resume_gives_the_fresh_result(case, case_path, tmp_path):
     args = ["--samples", "8", "--load-cases", "travel", "--workers", "1"]
     fresh = run_doe(case_path, tmp_path / "fresh", *args)

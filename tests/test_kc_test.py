@@ -101,6 +101,7 @@ def test_loading_and_unloading_differ_for_the_real_suspension_only():
                - toe_at_zero(frictionless, "return")) < 1e-7
 
 
+@pytest.mark.slow  # the real suspension's whole travel sweep (friction, 4 substeps)
 def test_shipped_test_file_regenerates_byte_for_byte(tmp_path):
     """`elastokin synthesize` writes the same bytes (parallel travel: the one the steer
     amplitude comes from; the other load cases use the same writer)."""
