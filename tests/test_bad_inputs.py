@@ -521,6 +521,9 @@ def _no_clearance(d):
 OPTION_CASES = [
     case("--samples 0", "doe", lambda f: ["--config", _doe_config(f), "--samples", "0"],
          ["--samples", "at least 1, got 0"]),
+    case("--samples 10^8", "doe", lambda f: ["--config", _doe_config(f), "--samples",
+                                             "100000000"],
+         ["--samples", "100,000,000 samples", "at most 1,000,000"]),
     case("--workers 0", "doe", lambda f: ["--config", _doe_config(f), "--samples", "2",
                                           "--workers", "0"], ["--workers", "at least 1"]),
     case("unknown --method", "doe", lambda f: ["--config", _doe_config(f), "--samples", "2",

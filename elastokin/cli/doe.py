@@ -88,6 +88,8 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
     out_dir = out_dir or Path("results") / f"{config_path.stem}_doe"
     if samples < 1:
         fail(f"--samples: must be at least 1, got {samples}")
+    if samples > study_mod.MAX_SAMPLES:
+        fail(f"--samples: {samples:,} samples; at most {study_mod.MAX_SAMPLES:,} per study")
     if workers is not None and workers < 1:
         fail(f"--workers: must be at least 1, got {workers}")
     workers = workers or _cores()

@@ -41,6 +41,8 @@ LOAD_CASES = ("all", "travel")
 #: the path to it (the stroke's toe agrees with the K&C job's 1 mm approach to 1e-10)
 APPROACH_STEP_MM = 30.0
 STORE_FORMAT = 1
+#: samples of one study at most (checked before anything is sampled or allocated)
+MAX_SAMPLES = 1_000_000
 
 
 def study_job(suspension: Suspension, design, load_cases: str = "all") -> dict:
@@ -180,6 +182,10 @@ def make_study(suspension: Suspension, samples: int, method: str = "lhs", seed: 
     """Sample a study (no solving except the nominal design preloads)."""
     if samples < 1:
         raise ConfigError(f"--samples: must be at least 1, got {samples}")
+    if samples > MAX_SAMPLES:
+        raise ConfigError(f"--samples: {samples:,} samples; at most {MAX_SAMPLES:,} (the sample "
+                          "table stays below ~100 MB, and a million as-built sweeps already "
+                          "take about 5 hours on 2 cores)")
     joints = clearance_joints(suspension)
     d = sum(j.dimensions for j in joints)
     u = unit_samples(method, samples, d, seed)
