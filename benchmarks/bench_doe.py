@@ -1,7 +1,8 @@
 """Throughput of the DOE path on the compliant pseudo-McPherson (issue 5, part 3).
 
 A "sweep" is what ``elastokin doe --load-cases travel`` does for one sample: clearance shifts
--> as-built model (nominal design preloads computed once, see ``elastokin.studies.doe.study_job``) ->
+-> as-built model (nominal design preloads computed once, see
+``elastokin.studies.doe.study_job``) ->
 parallel wheel travel, whose measured stroke is 181 points (-90..+90 mm at 1 mm; the approach
 from the design position to -90 mm is solved in 30 mm steps and not recorded: 183 solved
 points) -> steer amplitude, bump steer, bump camber. Measured, in one run on this machine:
