@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.errors import MeasurementError
+from elastokin.formats.text import read_text
 
 CSV_COLUMNS = ("label", "kind", "x_mm", "y_mm", "z_mm", "x2_mm", "y2_mm", "z2_mm")
 
@@ -104,7 +105,7 @@ def write_points(path: str | Path, points: dict[str, np.ndarray],
 
 def read_csv(path: str | Path) -> PointSet:
     p = Path(path)
-    text = text_of(p, "CSV measurement file", "save the CSV file as UTF-8")
+    text = read_text(p, "CSV measurement file", "save the CSV file as UTF-8")
     rows = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
             if line.strip() and not line.lstrip().startswith("#")]
     if not rows:
@@ -152,29 +153,6 @@ def _csv_points(p: Path, rows: list[tuple[int, str]]) -> PointSet:
             raise MeasurementError(f"{p}: {where}: kind '{cells[col['kind']]}' (expected "
                                    "'point' or 'line')")
     return out
-
-
-def text_of(p: Path, what: str, hint: str) -> str:
-    """A text file's contents (UTF-8, a byte-order mark dropped); a file that cannot be read,
-    is binary (NUL bytes) or is not UTF-8 raises :class:`MeasurementError` naming the file,
-    the line and ``what`` it should be (``hint``: how to fix an encoding)."""
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise MeasurementError(f"{p}: cannot read {what} ({exc.strerror or exc})") from None
-    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        raise MeasurementError(f"{p}: UTF-16 text; expected a {what} in UTF-8: {hint}")
-    if b"\0" in data:
-        k = data.index(b"\0")
-        line = data.count(b"\n", 0, k) + 1
-        raise MeasurementError(f"{p}: line {line}: binary data (a NUL byte at byte {k}); "
-                               f"expected a {what} (text)")
-    try:
-        return data.decode("utf-8").removeprefix("\ufeff")
-    except UnicodeDecodeError as exc:
-        line = data.count(b"\n", 0, exc.start) + 1
-        raise MeasurementError(f"{p}: line {line}: not UTF-8 text (byte {exc.start}: "
-                               f"0x{data[exc.start]:02x}); expected a {what}: {hint}") from None
 
 
 def _is_float(s: str) -> bool:

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.errors import MeasurementError
+from elastokin.formats.text import read_text
 from elastokin.rig.channels import CHANNEL_LIST, LOAD_CASE_LIST
 
 __all__ = [
@@ -215,27 +216,6 @@ def _check_sweep(path, column: str, x: np.ndarray, lines: Sequence[int],
 # --------------------------------------------------------------------------------------- read
 
 
-def _read_text(p: Path) -> str:
-    """The file's text (UTF-8, a byte-order mark dropped); binary data named with its line."""
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise MeasurementError(f"{p}: cannot read K&C test file ({exc.strerror})") from None
-    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        raise MeasurementError(f"{p}: UTF-16 text; save the CSV file as UTF-8")
-    if b"\0" in data:
-        k = data.index(b"\0")
-        line = data.count(b"\n", 0, k) + 1
-        raise MeasurementError(f"{p}: line {line}: binary data (a NUL byte at byte {k}); "
-                               "expected a K&C test CSV file (UTF-8 text)")
-    try:
-        return data.decode("utf-8").removeprefix("\ufeff")
-    except UnicodeDecodeError as exc:
-        line = data.count(b"\n", 0, exc.start) + 1
-        raise MeasurementError(f"{p}: line {line}: not UTF-8 text (byte {exc.start}); save the "
-                               "CSV file as UTF-8") from None
-
-
 def _read_comments(p: Path, lines: Sequence[str]
                    ) -> tuple[list[str], tuple[str, int] | None, int]:
     """The ``#`` lines before the header: (free-text notes, the ``# load_case:`` value and its
@@ -398,7 +378,7 @@ def read_kc_test(path: str | Path,
         raise ValueError(f"jitter_tolerance is a fraction of the input range in [0, 0.5), "
                          f"got {jitter_tolerance}")
     p = Path(path)
-    lines = _read_text(p).splitlines()
+    lines = read_text(p, "K&C test CSV file", "save the CSV file as UTF-8").splitlines()
     notes, declared, header_at = _read_comments(p, lines)
     load_case = _resolve_load_case(p, declared)
     header = _parse_header(p, lines[header_at - 1], header_at)
