@@ -3,6 +3,8 @@ carries its provenance in a footer; labels, units and signs come from the channe
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 
 from elastokin.rig.channels import LOAD_CASES, channel
@@ -25,8 +27,10 @@ def new_figure():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.0, 5.0), layout="constrained")
-    fig.get_layout_engine().set(rect=(0.0, 0.03, 1.0, 0.97))  # room for the footer
+    # fixed margins (room for long axis labels and the footer): a layout engine costs about
+    # as much as drawing the chart
+    fig, ax = plt.subplots(figsize=(7.0, 5.0))
+    fig.subplots_adjust(left=0.13, right=0.975, bottom=0.135, top=0.93)
     return plt, fig, ax
 
 
@@ -38,15 +42,21 @@ def provenance_footer(fig, provenance: dict) -> None:
              ha="left", va="bottom")
 
 
+def _legend(sw: Sweep, amplitude: bool) -> str:
+    return f"{sw.model} (amplitude {steer_amplitude_deg(sw):.3f} deg)" if amplitude else sw.model
+
+
 def _overlay(sweeps: list[Sweep], x: str, y: str, xlabel: str, ylabel: str, title: str,
-             name: str, out_dir: Path, provenance: dict, legend=None,
+             name: str, out_dir: Path, provenance: dict,
              stroke_only: bool = False) -> list[Path]:
+    """One chart (PNG and SVG): ``y`` against ``x`` of every sweep; on the travel stroke only,
+    with each model's steer amplitude in the legend, when ``stroke_only``."""
     plt, fig, ax = new_figure()
     for sw in sweeps:
         style = STYLE.get(sw.model, {})
         xs = sw.stroke(x) if stroke_only else sw.columns[x]
         ys = sw.stroke(y) if stroke_only else sw.columns[y]
-        ax.plot(xs, ys, **style, label=legend(sw) if legend else sw.model)
+        ax.plot(xs, ys, **style, label=_legend(sw, stroke_only))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)
@@ -60,14 +70,13 @@ def _overlay(sweeps: list[Sweep], x: str, y: str, xlabel: str, ylabel: str, titl
     return paths
 
 
-def steer_vs_travel(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> list[Path]:
-    """Toe (steer) vs wheel travel, one line per model (measured stroke only), as PNG and SVG
-    (the paper's Fig. 9a). Returns the files written."""
-    return _overlay([sw for sw in sweeps if sw.load_case == "parallel_travel"],
-                    "wheel_travel_mm", "toe_deg", axis_label("parallel_travel", "wheel_travel_mm"),
-                    axis_label("parallel_travel", "toe_deg"), "Steer vs parallel wheel travel",
-                    "steer_vs_travel", out_dir, provenance, stroke_only=True,
-                    legend=lambda sw: f"{sw.model} (amplitude {steer_amplitude_deg(sw):.3f} deg)")
+def _steer_vs_travel_args(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> tuple:
+    """Toe (steer) vs wheel travel, one line per model (measured stroke only; the paper's
+    Fig. 9a)."""
+    return ([sw for sw in sweeps if sw.load_case == "parallel_travel"], "wheel_travel_mm",
+            "toe_deg", axis_label("parallel_travel", "wheel_travel_mm"),
+            axis_label("parallel_travel", "toe_deg"), "Steer vs parallel wheel travel",
+            "steer_vs_travel", out_dir, provenance, True)
 
 
 #: the charts of every K&C run: file name -> (load case, x, y, title); axis labels from the
@@ -98,11 +107,20 @@ def axis_label(load_case: str, column: str) -> str:
 
 
 def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> list[Path]:
-    """Every chart of a K&C run whose load case was run, each overlaying all models."""
-    paths = steer_vs_travel(sweeps, out_dir, provenance)
+    """Every chart of a K&C run whose load case was run, each overlaying all models (PNG and
+    SVG); drawn in two forked processes where the platform forks (Linux), about twice as
+    fast. Returns the files written, in chart order."""
+    jobs = [_steer_vs_travel_args(sweeps, out_dir, provenance)]
     for name, (case, x, y, title) in CHARTS.items():
         chosen = [sw for sw in sweeps if sw.load_case == case]
         if chosen:
-            paths += _overlay(chosen, x, y, axis_label(case, x), axis_label(case, y), title,
-                              name, out_dir, provenance)
-    return paths
+            jobs.append((chosen, x, y, axis_label(case, x), axis_label(case, y), title, name,
+                         out_dir, provenance, False))
+    if len(jobs) > 2 and sys.platform.startswith("linux") and (os.cpu_count() or 1) > 1:
+        import multiprocessing
+
+        with multiprocessing.get_context("fork").Pool(2) as pool:
+            done = pool.starmap(_overlay, jobs)
+    else:
+        done = [_overlay(*job) for job in jobs]
+    return [path for paths in done for path in paths]
