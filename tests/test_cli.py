@@ -2,6 +2,7 @@
 
 import csv
 import json
+from pathlib import Path
 
 import pytest
 import yaml
@@ -207,3 +208,18 @@ def test_bad_rig_file_one_clear_line(case_dict, tmp_path, text, expected):
     assert "\n" not in message and "Traceback" not in message
     for word in expected:
         assert word in message, message
+
+
+def test_models_option_runs_only_the_models_asked_for(tmp_path):
+    """--models: the double wishbone yields initial and initial_kinematic; asking for one
+    runs that one only; an unknown name is refused, listing what the config yields."""
+    dw = Path(__file__).parent / "data" / "double_wishbone.yaml"
+    result = CliRunner().invoke(main, ["kc", "--config", str(dw), "--models", "initial",
+                                       "--out", str(tmp_path / "out"), "--quiet"])
+    assert result.exit_code == 0, result.output
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert set(s["models"]) == {"initial"}
+    bad = CliRunner().invoke(main, ["kc", "--config", str(dw), "--models", "nope",
+                                    "--out", str(tmp_path / "bad"), "--quiet"])
+    assert bad.exit_code == 1 and "unknown model nope" in bad.output
+    assert "initial, initial_kinematic" in bad.output

@@ -23,8 +23,14 @@ from elastokin.errors import ElastokinError
               help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
                    "the run succeeds, untouched when it fails.")
 @rig_option
+@click.option("--models", "models", default=None, metavar="NAMES",
+              help="Comma-separated models to run (default: every model the config yields: "
+                   "initial and identified with CMM data, else initial and initial_kinematic; "
+                   "identified_stiffness with K&C test data). E.g. --models initial,identified "
+                   "skips the stiffness fit.")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
-def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bool) -> None:
+def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
+       quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
@@ -38,7 +44,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
-    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc
+    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc, select_models
 
     out_dir = out_dir or Path("results") / config_path.stem
     output = Output(out_dir)
@@ -46,17 +52,17 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, quiet: bo
         try:
             output.check()  # before any computation
             suspension = load_suspension_with_rig(config_path, rig_path)
-            labels = model_labels(suspension)
-            stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                      + 2 * fits_stiffness(suspension))
+            chosen = select_models(suspension, models)
+            labels = [m for m in model_labels(suspension) if m in chosen]
+            fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
+            stages = (3 + 2 * len(labels) + (suspension.measurements is not None) + 2 * fit)
             with output as tmp, tqdm(
                     total=stages, disable=quiet, file=sys.stderr, leave=False,
                     bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
                 def progress(msg: str) -> None:
                     bar.set_description_str(msg)
                     bar.update(1)
-                run = run_kc(suspension, progress,
-                             lambda m: bar.set_description_str(m, refresh=False))
+                run = run_kc(suspension, progress, bar.set_description_str, chosen)
                 progress("writing results")
                 run.add_warnings(log.messages)  # into summary.json
                 summary = write_kc_results(run, tmp)

@@ -120,6 +120,26 @@ def model_labels(suspension: Suspension) -> list[str]:
     return ["initial"]
 
 
+def select_models(suspension: Suspension, names: str | None) -> list[str]:
+    """The models a run computes: ``names`` (comma-separated, e.g. ``initial,identified``)
+    checked against what the config yields (:func:`model_labels`, plus
+    ``identified_stiffness`` with K&C test data); None: all of them."""
+    available = model_labels(suspension) + (["identified_stiffness"]
+                                            if fits_stiffness(suspension) else [])
+    if names is None:
+        return available
+    chosen = [n.strip() for n in names.split(",") if n.strip()]
+    unknown = [n for n in chosen if n not in available]
+    if unknown or not chosen:
+        what = f"unknown model {', '.join(unknown)}" if unknown else "no model named"
+        raise ConfigError(f"--models {names}: {what}; {suspension.source} yields "
+                          f"{', '.join(available)}")
+    if "identified_stiffness" in chosen:
+        start = "identified" if suspension.measurements is not None else "initial"
+        chosen = list(dict.fromkeys([*chosen, start]))  # the fit starts from it
+    return chosen
+
+
 def model_variants(suspension: Suspension, ident: Identification | None = None
                    ) -> dict[str, ModelVariant]:
     """Step ``model_variants``: the models of the run (:func:`model_labels`), each the
@@ -210,33 +230,45 @@ def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str]
 
 # ------------------------------------------------------------------------------- entry points
 def run_kc(suspension: Suspension, progress: Progress = _quiet,
-           detail: Progress = _quiet) -> KCRun:
+           detail: Progress = _quiet, models: list[str] | None = None) -> KCRun:
     """The whole job from a config: identification (with measurements), design preloads, the
     static equilibrium and every load case of every model; with K&C test data, the errors of
-    each model and the bushing-stiffness fit (:func:`fits_stiffness`). ``progress`` is
-    called once per stage, ``detail`` for steps within one."""
+    each model and the bushing-stiffness fit (:func:`fits_stiffness`). ``models``: only these
+    (:func:`select_models`). ``progress`` is called once per stage, ``detail`` for steps
+    within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
     ident = geometry(suspension, progress)
-    return run_kc_from_identification(suspension, ident, progress, detail, (test, files))
+    return run_kc_from_identification(suspension, ident, progress, detail, (test, files),
+                                      models)
 
 
 def run_kc_from_identification(suspension: Suspension, ident: Identification | None,
                                progress: Progress = _quiet, detail: Progress = _quiet,
-                               test: tuple[list[Sweep], list[str]] | None = None) -> KCRun:
-    """The job from an identification result (None: the config's own geometry)."""
+                               test: tuple[list[Sweep], list[str]] | None = None,
+                               models: list[str] | None = None) -> KCRun:
+    """The job from an identification result (None: the config's own geometry); ``models``:
+    only these (:func:`select_models`)."""
     test = test if test is not None else test_data(suspension)
     variants = model_variants(suspension, ident)
     static_label = "identified" if ident is not None else "initial"
-    run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail)
+    if models is not None:
+        variants = {k: v for k, v in variants.items() if k in models}
+        if static_label not in variants:
+            static_label = next(iter(variants))
+    fit = models is None or "identified_stiffness" in models
+    run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail,
+                               fit)
     run.identification = ident
     return run
 
 
 def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVariant],
                          static_label: str, test: tuple[list[Sweep], list[str]] = ([], []),
-                         progress: Progress = _quiet, detail: Progress = _quiet) -> KCRun:
+                         progress: Progress = _quiet, detail: Progress = _quiet,
+                         fit_stiffness: bool = True) -> KCRun:
     """The job from model variants: ``static_label`` names the one whose static equilibrium
-    is reported and from which the stiffness fit starts."""
+    is reported and from which the stiffness fit starts (``fit_stiffness``: when the config
+    asks for it, :func:`fits_stiffness`)."""
     variants = preloads(variants)
     models, static_result = {}, None
     for label, v in variants.items():
@@ -248,7 +280,7 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
         models[label] = load_cases(v, progress, model)
     stiffness = None
     test_sweeps, files = test
-    if test_sweeps and fits_stiffness(suspension):
+    if test_sweeps and fit_stiffness and fits_stiffness(suspension):
         progress("identifying bushing stiffness from the K&C test data")
         stiffness = fit(suspension, variants[static_label], test_sweeps, detail)
         fitted = ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
