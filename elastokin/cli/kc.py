@@ -28,9 +28,12 @@ from elastokin.errors import ElastokinError
                    "initial and identified with CMM data, else initial and initial_kinematic; "
                    "identified_stiffness with K&C test data). E.g. --models initial,identified "
                    "skips the stiffness fit.")
+@click.option("--refit", is_flag=True,
+              help="Recompute the identification and the stiffness fit even when the "
+                   "previous results in --out hold them for the same inputs (their cache).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
-       quiet: bool) -> None:
+       refit: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
@@ -44,6 +47,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
+    from elastokin.studies.cache import ResultCache
     from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc, select_models
 
     out_dir = out_dir or Path("results") / config_path.stem
@@ -62,7 +66,8 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                 def progress(msg: str) -> None:
                     bar.set_description_str(msg)
                     bar.update(1)
-                run = run_kc(suspension, progress, bar.set_description_str, chosen)
+                cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
+                run = run_kc(suspension, progress, bar.set_description_str, chosen, cache)
                 progress("writing results")
                 run.add_warnings(log.messages)  # into summary.json
                 summary = write_kc_results(run, tmp)

@@ -1,7 +1,11 @@
 """TeimOrbit files (the ADAMS/Car text format): parser, reader and unit conversion.
 
 Pure Python (no Exudyn). ``$`` comments, ``[BLOCK]`` and ``(SUB_BLOCK)`` headers, ``KEY = value``
-pairs and ``{col1 col2 ...}`` tables; every item remembers its line and every problem raises
+pairs and ``{col1 col2 ...}`` tables; every item remembers its line. The reader takes every file
+as ADAMS/Car writes it: any bracketed block name (``[3D]``), a block name repeated (a left/right
+pair written as two blocks), a description row (one quoted string) under a table row, free text
+after the values of a table row or a key, a key given twice (the last value is used, with a
+warning), every ADAMS unit name and unit system. What is really broken raises
 :class:`~elastokin.errors.ConfigError` naming the file, the line and the block. Values of known
 quantities are converted on reading, with the file's ``[UNITS]`` block (ADAMS/Car's defaults
 when it has none), to elastokin units: mm, N, N*mm, deg (s and kg for damping and mass). No
@@ -10,12 +14,23 @@ frame is involved here: values stay in the file's frame. Format: ``docs/adams.md
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from elastokin.errors import ConfigError
+from elastokin.formats.teimorbit_units import (
+    COLUMN_QUANTITIES,
+    KEY_QUANTITIES,
+    QUANTITY_UNITS,
+    UNIT_FACTORS,
+    UNIT_SYSTEMS,
+    Units,
+    damping_quantity,
+    unit_factor,
+)
 
 __all__ = [
     "COLUMN_QUANTITIES",
@@ -28,116 +43,10 @@ __all__ = [
     "Table",
     "TeimOrbitFile",
     "Units",
+    "decode_text",
     "parse_teimorbit",
     "read_teimorbit",
 ]
-
-# ----------------------------------------------------------------------------------------------
-# Units
-
-_LBF = 4.4482216152605  # N (exact by definition of the pound-force)
-
-#: ADAMS unit names (lower case; spaces read as ``_``) and their factor to the elastokin unit of
-#: each base dimension: mm, N, deg, kg, s
-UNIT_FACTORS: dict[str, dict[str, float]] = {
-    "length": {
-        "mm": 1.0, "millimeter": 1.0, "millimetre": 1.0, "cm": 10.0, "centimeter": 10.0,
-        "centimetre": 10.0, "meter": 1000.0, "metre": 1000.0, "m": 1000.0, "km": 1.0e6,
-        "kilometer": 1.0e6, "kilometre": 1.0e6, "inch": 25.4, "in": 25.4, "foot": 304.8,
-        "ft": 304.8, "mile": 1609344.0,
-    },
-    "force": {
-        "newton": 1.0, "n": 1.0, "kilo_newton": 1000.0, "kilonewton": 1000.0, "knewton": 1000.0,
-        "kn": 1000.0, "millinewton": 1.0e-3, "centinewton": 1.0e-2, "dyne": 1.0e-5,
-        "pound_force": _LBF, "lbf": _LBF, "kpound_force": 1000.0 * _LBF, "kip": 1000.0 * _LBF,
-        "ounce_force": _LBF / 16.0, "ozf": _LBF / 16.0, "kilogram_force": 9.80665,
-        "kg_force": 9.80665, "kgf": 9.80665, "gram_force": 9.80665e-3,
-    },
-    "angle": {
-        "degrees": 1.0, "degree": 1.0, "deg": 1.0,
-        "radians": 180.0 / math.pi, "radian": 180.0 / math.pi, "rad": 180.0 / math.pi,
-    },
-    "mass": {
-        "kg": 1.0, "kilogram": 1.0, "gram": 1.0e-3, "g": 1.0e-3, "tonne": 1000.0,
-        "megagram": 1000.0, "pound_mass": 0.45359237, "lbm": 0.45359237,
-        "kpound_mass": 453.59237, "ounce_mass": 0.45359237 / 16.0, "slug": _LBF / 0.3048,
-    },
-    "time": {
-        "second": 1.0, "sec": 1.0, "s": 1.0, "millisecond": 1.0e-3, "msec": 1.0e-3,
-        "ms": 1.0e-3, "minute": 60.0, "min": 60.0, "hour": 3600.0, "hr": 3600.0, "h": 3600.0,
-    },
-}
-
-_DIMENSIONS = ("length", "force", "angle", "mass", "time")
-
-#: derived quantities: exponents of (length, force, angle, mass, time) and the elastokin unit
-QUANTITY_UNITS: dict[str, tuple[tuple[int, int, int, int, int], str]] = {
-    "length": ((1, 0, 0, 0, 0), "mm"),
-    "force": ((0, 1, 0, 0, 0), "N"),
-    "angle": ((0, 0, 1, 0, 0), "deg"),
-    "mass": ((0, 0, 0, 1, 0), "kg"),
-    "time": ((0, 0, 0, 0, 1), "s"),
-    "torque": ((1, 1, 0, 0, 0), "N*mm"),
-    "velocity": ((1, 0, 0, 0, -1), "mm/s"),
-    "angular_velocity": ((0, 0, 1, 0, -1), "deg/s"),
-    "damping": ((-1, 1, 0, 0, 1), "N*s/mm"),
-    "rotational_damping": ((1, 1, -1, 0, 1), "N*mm*s/deg"),
-}
-
-#: table columns of a known quantity (lower-case names), converted on reading
-COLUMN_QUANTITIES: dict[str, str] = {
-    "disp": "length", "force": "force", "rot": "angle", "torque": "torque",
-    "x_value": "length", "y_value": "length", "z_value": "length",
-    "radius": "length", "width": "length", "vel": "velocity", "velocity": "velocity",
-}
-
-#: ``KEY = value`` entries of a known quantity (upper-case names), converted on reading;
-#: keys of the ``[DAMPING]`` block are classified by :func:`_damping_quantity`
-KEY_QUANTITIES: dict[str, str] = {
-    **{f"T_PRELOAD_{a}": "force" for a in "XYZ"},
-    **{f"R_PRELOAD_{a}": "torque" for a in "XYZ"},
-    **{f"T_OFFSET_{a}": "length" for a in "XYZ"},
-    **{f"R_OFFSET_{a}": "angle" for a in "XYZ"},
-    "GEOMETRY_LENGTH": "length", "GEOMETRY_RADIUS": "length",
-}
-
-
-def _damping_quantity(key: str) -> str | None:
-    """Translational damping (FX.., CX.., TRANS..) or rotational (TX.., CTX.., ROT..)."""
-    k = key.upper()
-    if re.match(r"^(F[XYZ]|C[XYZ]|TRANS)", k):
-        return "damping"
-    if re.match(r"^(T[XYZ]|CT[XYZ]|ROT)", k):
-        return "rotational_damping"
-    return None
-
-
-def _unit_key(name: str) -> str:
-    return re.sub(r"\s+", "_", str(name).strip().lower())
-
-
-@dataclass(frozen=True)
-class Units:
-    """The ``[UNITS]`` of a TeimOrbit file (ADAMS names as written in the file)."""
-
-    length: str = "mm"
-    force: str = "newton"
-    angle: str = "degrees"
-    mass: str = "kg"
-    time: str = "second"
-
-    def factor(self, quantity: str) -> float:
-        """Multiplier from this file's unit of ``quantity`` to elastokin's."""
-        exponents, _ = QUANTITY_UNITS[quantity]
-        f = 1.0
-        for dim, e in zip(_DIMENSIONS, exponents):
-            if e:
-                f *= UNIT_FACTORS[dim][_unit_key(getattr(self, dim))] ** e
-        return f
-
-
-# ----------------------------------------------------------------------------------------------
-# TeimOrbit reader
 
 
 @dataclass
@@ -154,13 +63,18 @@ class Entry:
 @dataclass
 class Table:
     """A ``{col1 col2 ...}`` table: ``rows`` of numbers (converted) or strings (unquoted).
-    ``units`` holds per column the elastokin unit it was converted to (None: kept as read)."""
+    ``units`` holds per column the elastokin unit it was converted to (None: kept as read);
+    ``descriptions`` the description row under a row (row index -> text, as ADAMS/Car writes
+    under ``[PARAMETER]`` rows); ``notes`` the free text after a row's values (row index ->
+    text, ignored)."""
 
     columns: tuple[str, ...]
     line: int
     rows: list[tuple] = field(default_factory=list)
     row_lines: list[int] = field(default_factory=list)
     units: tuple[str | None, ...] = ()
+    descriptions: dict[int, str] = field(default_factory=dict)
+    notes: dict[int, str] = field(default_factory=dict)
 
     def column(self, name: str) -> list:
         i = [c.lower() for c in self.columns].index(name.lower())
@@ -199,12 +113,14 @@ class Block:
 @dataclass
 class TeimOrbitFile:
     """A parsed TeimOrbit file; ``blocks`` in file order (a name may repeat, as
-    ``[BUSHING_ASSEMBLY]`` does in a subsystem file)."""
+    ``[BUSHING_ASSEMBLY]`` does in a subsystem file); ``warnings``: what was read tolerantly
+    (a repeated key, free text), one line each naming file, line and block."""
 
     path: str
     blocks: list[Block]
     units: Units = Units()
     units_declared: bool = False
+    warnings: list[str] = field(default_factory=list)
 
     def blocks_named(self, name: str) -> list[Block]:
         return [b for b in self.blocks if b.name == name.upper()]
@@ -220,13 +136,15 @@ class TeimOrbitFile:
         return found[0]
 
     def error(self, line: int | None, block: str | None, msg: str) -> ConfigError:
-        return _error(self.path, line, block, msg)
+        return ConfigError(_where(self.path, line, block) + msg)
+
+    def warn(self, line: int | None, block: str | None, msg: str) -> None:
+        self.warnings.append(_where(self.path, line, block) + msg)
 
 
-def _error(path: str, line: int | None, block: str | None, msg: str) -> ConfigError:
-    where = f"{path}" + (f", line {line}" if line else "") + (f", block [{block}]" if block
-                                                               else "")
-    return ConfigError(f"{where}: {msg}")
+def _where(path: str, line: int | None, block: str | None) -> str:
+    return (f"{path}" + (f", line {line}" if line else "") + (f", block [{block}]" if block
+                                                              else "") + ": ")
 
 
 def _show(text: str, limit: int = 60) -> str:
@@ -237,6 +155,7 @@ def _show(text: str, limit: int = 60) -> str:
 
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")
 _NAME = r"[A-Za-z_][A-Za-z0-9_]*"
+_KEY_LINE = re.compile(rf"({_NAME})\s*=\s*(.*)")
 
 
 def _strip_comment(text: str) -> tuple[str, str | None]:
@@ -260,6 +179,11 @@ def _tokens(text: str) -> list[tuple[str, bool]]:
             for m in re.finditer(r"'([^']*)'|\"([^\"]*)\"|(\S+)", text)]
 
 
+def _is_free_text(token: tuple[str, bool]) -> bool:
+    """A token that starts free text after the values: a bare word that is not a number."""
+    return not token[1] and not _NUMBER.match(token[0])
+
+
 def _value(token: str, quoted: bool) -> float | str:
     if quoted:
         return token.strip()
@@ -269,77 +193,154 @@ def _value(token: str, quoted: bool) -> float | str:
     return token
 
 
+class _Parser:
+    """Line by line: the current block, section (block or sub-block) and table."""
+
+    def __init__(self, path: str):
+        self.path = path
+        self.blocks: list[Block] = []
+        self.block: Block | None = None
+        self.section: Block | SubBlock | None = None
+        self.table: Table | None = None
+        self.tables: list[tuple[Table, str]] = []
+        self.warnings: list[str] = []
+
+    def error(self, n: int, msg: str) -> ConfigError:
+        return ConfigError(_where(self.path, n, self.block.name if self.block else None) + msg)
+
+    def warn(self, n: int, msg: str) -> None:
+        self.warnings.append(_where(self.path, n, self.block.name) + msg)
+
+    def feed(self, n: int, raw: str) -> None:
+        line, open_quote = _strip_comment(raw)
+        if open_quote:
+            raise self.error(n, f"unclosed quote {open_quote} in {_show(raw.strip())}")
+        line = line.strip()
+        if not line:
+            return
+        if line.startswith("["):
+            return self.start_block(n, line)
+        if self.block is None:
+            raise self.error(n, f"{_show(line)} comes before the first [BLOCK] header (not a "
+                             "TeimOrbit file?)")
+        if line.startswith("("):
+            return self.start_sub_block(n, line)
+        if line.startswith("{"):
+            return self.start_table(n, line)
+        m = _KEY_LINE.fullmatch(line)
+        if m:
+            return self.entry(n, m.group(1), m.group(2))
+        if self.table is None:
+            raise self.error(n, f"unrecognised line {_show(line)} (expected a [BLOCK], "
+                             "(SUB_BLOCK), KEY = value, {table header}, a table row or a $ "
+                             "comment)")
+        self.row(n, line)
+
+    def start_block(self, n: int, line: str) -> None:
+        m = re.fullmatch(r"\[\s*([^\[\]]*?)\s*\]", line)
+        if not m or not m.group(1):
+            raise self.error(n, f"malformed block header {_show(line)} (expected [NAME])")
+        self.block = Block(m.group(1).upper(), n)
+        self.blocks.append(self.block)
+        self.section, self.table = self.block, None
+
+    def start_sub_block(self, n: int, line: str) -> None:
+        m = re.fullmatch(r"\(\s*([^()]*?)\s*\)", line)
+        if not m or not m.group(1):
+            raise self.error(n, f"malformed sub-block header {_show(line)} (expected (NAME))")
+        self.section = SubBlock(m.group(1).upper(), n)
+        self.block.sub_blocks.append(self.section)
+        self.table = None
+
+    def start_table(self, n: int, line: str) -> None:
+        if not line.endswith("}") or line.count("}") != 1:
+            raise self.error(n, f"unclosed table header {_show(line)}: expected "
+                             "'{col1 col2 ...}' on one line")
+        columns = tuple(line[1:-1].split())
+        if not columns:
+            raise self.error(n, "table header '{}' names no columns")
+        self.table = Table(columns, n)
+        self.section.tables.append(self.table)
+        self.tables.append((self.table, self.block.name))
+
+    def entry(self, n: int, key: str, rest: str) -> None:
+        self.table = None
+        toks = _tokens(rest)
+        if not toks or (len(toks) > 1 and not _is_free_text(toks[1])):
+            raise self.error(n, f"{key} = ...: expected one value (a number or a 'quoted "
+                             f"string'), got {_show(rest)}")
+        if len(toks) > 1:
+            self.warn(n, f"{key}: free text after the value ignored: "
+                      f"{_show(' '.join(t for t, _ in toks[1:]))}")
+        key = key.upper()
+        old = self.section.entries.get(key)
+        if old is not None:
+            self.warn(n, f"{key} is given again (first at line {old.line}): the last value is "
+                      "used")
+        self.section.entries[key] = Entry(key, _value(*toks[0]), n)
+
+    def row(self, n: int, line: str) -> None:
+        t = self.table
+        toks = _tokens(line)
+        ncol = len(t.columns)
+        if len(toks) == 1 and toks[0][1] and ncol > 1:  # a description row under a row
+            if not t.rows:
+                raise self.error(n, f"a description row {_show(line)} comes before the first "
+                                 f"row of the table {t.header} (line {t.line})")
+            i = len(t.rows) - 1
+            t.descriptions[i] = (t.descriptions.get(i, "") + " " + toks[0][0].strip()).strip()
+            return
+        if len(toks) > ncol and _is_free_text(toks[ncol]):
+            t.notes[len(t.rows)] = " ".join(tok for tok, _ in toks[ncol:])
+            toks = toks[:ncol]
+        if len(toks) != ncol:
+            raise self.error(n, f"row has {len(toks)} values but the table {t.header} (line "
+                             f"{t.line}) has {ncol} columns")
+        t.rows.append(tuple(_value(tok, q) for tok, q in toks))
+        t.row_lines.append(n)
+
+    def finish(self) -> None:
+        for t, block in self.tables:
+            if t.notes:
+                lines = [t.row_lines[i] for i in t.notes]
+                first = next(iter(t.notes.values()))
+                self.warnings.append(
+                    _where(self.path, lines[0], block) + f"free text after the values of "
+                    f"{len(lines)} row(s) of {t.header} ignored (lines "
+                    f"{', '.join(map(str, lines))}): {_show(first)}")
+
+
 def parse_teimorbit(text: str, path: str = "<text>") -> TeimOrbitFile:
     """Parse TeimOrbit text into blocks, sub-blocks, entries and tables (no unit conversion).
 
-    Errors name ``path``, the line and the block."""
-    blocks: list[Block] = []
-    block: Block | None = None
-    section: Block | SubBlock | None = None
-    table: Table | None = None
+    Errors name ``path``, the line and the block; what was read tolerantly is in the file's
+    ``warnings``."""
+    p = _Parser(path)
     for n, raw in enumerate(text.splitlines(), start=1):
-        bname = block.name if block else None
-        line, open_quote = _strip_comment(raw)
-        if open_quote:
-            raise _error(path, n, bname,
-                         f"unclosed quote {open_quote} in {_show(raw.strip())}")
-        line = line.strip()
-        if not line:
-            continue
-        if line.startswith("["):
-            m = re.fullmatch(rf"\[\s*({_NAME})\s*\]", line)
-            if not m:
-                raise _error(path, n, bname, f"malformed block header {_show(line)} (expected "
-                             "[NAME])")
-            block = Block(m.group(1).upper(), n)
-            blocks.append(block)
-            section, table = block, None
-            continue
-        if block is None:
-            raise _error(path, n, None, f"{_show(line)} comes before the first [BLOCK] header")
-        if line.startswith("("):
-            m = re.fullmatch(rf"\(\s*({_NAME})\s*\)", line)
-            if not m:
-                raise _error(path, n, bname, f"malformed sub-block header {_show(line)} "
-                             "(expected (NAME))")
-            section = SubBlock(m.group(1).upper(), n)
-            block.sub_blocks.append(section)
-            table = None
-            continue
-        if line.startswith("{"):
-            if not line.endswith("}") or line.count("}") != 1:
-                raise _error(path, n, bname, f"unclosed table header {_show(line)}: expected "
-                             "'{col1 col2 ...}' on one line")
-            columns = tuple(line[1:-1].split())
-            if not columns:
-                raise _error(path, n, bname, "table header '{}' names no columns")
-            table = Table(columns, n)
-            section.tables.append(table)
-            continue
-        m = re.fullmatch(rf"({_NAME})\s*=\s*(.*)", line)
-        if m:
-            table = None
-            toks = _tokens(m.group(2))
-            if len(toks) != 1:
-                raise _error(path, n, bname, f"{m.group(1)} = ...: expected one value (a "
-                             f"number or a 'quoted string'), got {_show(m.group(2))}")
-            key = m.group(1).upper()
-            if key in section.entries:
-                raise _error(path, n, bname, f"{key} is given twice (first at line "
-                             f"{section.entries[key].line})")
-            section.entries[key] = Entry(key, _value(*toks[0]), n)
-            continue
-        if table is None:
-            raise _error(path, n, bname, f"unrecognised line {_show(line)} (expected a "
-                         "[BLOCK], (SUB_BLOCK), KEY = value, {table header}, a table row or a $ "
-                         "comment)")
-        row = tuple(_value(t, q) for t, q in _tokens(line))
-        if len(row) != len(table.columns):
-            raise _error(path, n, bname, f"row has {len(row)} values but the table "
-                         f"{table.header} (line {table.line}) has {len(table.columns)} columns")
-        table.rows.append(row)
-        table.row_lines.append(n)
-    return TeimOrbitFile(path, blocks)
+        p.feed(n, raw)
+    p.finish()
+    return TeimOrbitFile(path, p.blocks, warnings=p.warnings)
+
+
+def decode_text(data: bytes, path: str, what: str = "a TeimOrbit text file"
+                ) -> tuple[str, list[str]]:
+    """The text of a file and its warnings: UTF-8 (a byte-order mark dropped); a file whose only
+    non-UTF-8 bytes are in ``$`` comments (Windows-1252, as ADAMS on Windows writes a degree
+    sign) is read as Windows-1252 with a warning; anything else is an error naming the line."""
+    bad = data.find(b"\0")  # a NUL byte: binary data
+    if bad < 0:
+        try:
+            return data.decode("utf-8").removeprefix("\ufeff"), []
+        except UnicodeDecodeError as exc:
+            bad = exc.start
+        text = data.decode("cp1252", errors="replace")
+        if all(_strip_comment(ln)[0].isascii() for ln in text.splitlines()):
+            line = data.count(b"\n", 0, bad) + 1
+            return text, [f"{path}, line {line}: not UTF-8 (byte {bad}); read as Windows-1252 "
+                          "(its non-ASCII characters are all in $ comments)"]
+    line = data.count(b"\n", 0, bad) + 1
+    raise ConfigError(f"{path}, line {line}: not a text file (byte {bad} is binary or not "
+                      f"UTF-8); expected {what}")
 
 
 def read_teimorbit(path: str | Path, convert: bool = True) -> TeimOrbitFile:
@@ -351,18 +352,10 @@ def read_teimorbit(path: str | Path, convert: bool = True) -> TeimOrbitFile:
         data = p.read_bytes()
     except OSError as exc:
         raise ConfigError(f"{p}: cannot read file ({exc.strerror})") from None
-    bad = data.find(b"\0")  # a NUL byte: binary data
-    if bad < 0:
-        try:
-            text = data.decode("utf-8").removeprefix("\ufeff")
-        except UnicodeDecodeError as exc:
-            bad = exc.start
-    if bad >= 0:
-        raise _error(str(p), data.count(b"\n", 0, bad) + 1, None, f"not a text file (byte "
-                     f"{bad} is binary or not UTF-8); expected a TeimOrbit text file")
+    text, warnings = decode_text(data, str(p))
     f = parse_teimorbit(text, str(p))
-    units_blocks = f.blocks_named("UNITS")
-    if units_blocks:
+    f.warnings[:0] = warnings
+    if f.blocks_named("UNITS"):
         f.units = _units(f, f.block("UNITS"))
         f.units_declared = True
     if convert:
@@ -371,17 +364,26 @@ def read_teimorbit(path: str | Path, convert: bool = True) -> TeimOrbitFile:
 
 
 def _units(f: TeimOrbitFile, block: Block) -> Units:
-    given = {}
+    """The units a ``[UNITS]`` block gives: a unit system (``UNITS = 'Imperial'``) and/or
+    single units (which override the system's); other keys are warned about and ignored."""
+    base, given = Units(), {}
     for key, e in block.entries.items():
         dim = key.lower()
-        if dim not in UNIT_FACTORS:
-            raise f.error(e.line, "UNITS", f"unknown unit kind {key} (expected LENGTH, FORCE, "
-                          "ANGLE, MASS, TIME)")
-        if _unit_key(e.value) not in UNIT_FACTORS[dim]:
+        if dim in ("units", "unit_system", "system"):
+            system = Units.system(str(e.value))
+            if system is None:
+                raise f.error(e.line, "UNITS", f"unknown unit system {e.value!r} (known: "
+                              f"{', '.join(UNIT_SYSTEMS)})")
+            base = system
+        elif dim not in UNIT_FACTORS:
+            f.warn(e.line, "UNITS", f"{key} = {e.value!r}: not a unit elastokin converts "
+                   "(LENGTH, FORCE, ANGLE, MASS, TIME): ignored")
+        elif unit_factor(dim, e.value) is None:
             raise f.error(e.line, "UNITS", f"unknown {dim} unit {e.value!r} (known: "
-                          f"{', '.join(UNIT_FACTORS[dim])})")
-        given[dim] = str(e.value)
-    return Units(**given)
+                          f"{', '.join(UNIT_FACTORS[dim])}, and their plurals)")
+        else:
+            given[dim] = str(e.value)
+    return dataclasses.replace(base, **given)
 
 
 def _scaled(value: float, factor: float) -> float:
@@ -390,33 +392,38 @@ def _scaled(value: float, factor: float) -> float:
     return value if factor == 1.0 else float(f"{value * factor:.12g}")
 
 
+def _convert_entries(f: TeimOrbitFile, block: Block, section: Block | SubBlock) -> None:
+    for key, e in section.entries.items():
+        q = damping_quantity(key) if block.name == "DAMPING" else KEY_QUANTITIES.get(key)
+        if q is None:
+            continue
+        if not isinstance(e.value, float):
+            raise f.error(e.line, block.name, f"{key} = {e.value!r}: expected a number ({q})")
+        e.value = _scaled(e.value, f.units.factor(q))
+        e.unit = QUANTITY_UNITS[q][1]
+
+
+def _convert_table(f: TeimOrbitFile, block: Block, t: Table) -> None:
+    qs = [COLUMN_QUANTITIES.get(c.lower()) for c in t.columns]
+    factors = [None if q is None else f.units.factor(q) for q in qs]
+    for i, (row, n) in enumerate(zip(t.rows, t.row_lines)):
+        new = list(row)
+        for j, k in enumerate(factors):
+            if k is None:
+                continue
+            if not isinstance(row[j], float):
+                raise f.error(n, block.name, f"column {t.columns[j]} of {t.header}: "
+                              f"{row[j]!r} is not a number")
+            new[j] = _scaled(row[j], k)
+        t.rows[i] = tuple(new)
+    t.units = tuple(None if q is None else QUANTITY_UNITS[q][1] for q in qs)
+
+
 def _convert(f: TeimOrbitFile) -> None:
     for block in f.blocks:
         if block.name == "UNITS":
             continue
         for section in (block, *block.sub_blocks):
-            for key, e in section.entries.items():
-                q = (_damping_quantity(key) if block.name == "DAMPING"
-                     else KEY_QUANTITIES.get(key))
-                if q is None:
-                    continue
-                if not isinstance(e.value, float):
-                    raise f.error(e.line, block.name, f"{key} = {e.value!r}: expected a number "
-                                  f"({q})")
-                e.value = _scaled(e.value, f.units.factor(q))
-                e.unit = QUANTITY_UNITS[q][1]
+            _convert_entries(f, block, section)
             for t in section.tables:
-                qs = [COLUMN_QUANTITIES.get(c.lower()) for c in t.columns]
-                factors = [None if q is None else f.units.factor(q) for q in qs]
-                for i, (row, n) in enumerate(zip(t.rows, t.row_lines)):
-                    new = list(row)
-                    for j, k in enumerate(factors):
-                        if k is None:
-                            continue
-                        if not isinstance(row[j], float):
-                            raise f.error(n, block.name, f"column {t.columns[j]} of "
-                                          f"{t.header}: {row[j]!r} is not a number")
-                        new[j] = _scaled(row[j], k)
-                    t.rows[i] = tuple(new)
-                t.units = tuple(None if q is None else QUANTITY_UNITS[q][1] for q in qs)
-
+                _convert_table(f, block, t)

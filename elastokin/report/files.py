@@ -98,6 +98,7 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         },
         "reference": {"steer_amplitude_deg": ref.steer_amplitude_deg},
         "warnings": run.warnings,
+        "reused_from_cache": run.reused,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
         "sign_conventions": sign_conventions(),

@@ -57,6 +57,9 @@ def kc_table(summary: dict, out_dir: Path) -> str:
             lines.append(f"  {key:<26}{v['value']:>10.4g} {v['unit']:<8} 95 % "
                          f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]{state}")
     lines.append("")
+    if summary.get("reused_from_cache"):
+        lines.append("Reused from the previous results (same config, CMM and test files; --refit "
+                     "recomputes): " + ", ".join(summary["reused_from_cache"]))
     lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
     return "\n".join(lines)
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 import pickle
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -43,6 +44,7 @@ from elastokin.rig.load_cases import (
     static_equilibrium,
 )
 from elastokin.rig.sweeps import Sweep, find_sweep
+from elastokin.studies.cache import ResultCache, content_key
 from elastokin.studies.identification import identify_geometry
 
 Progress = Callable[[str], None]
@@ -97,12 +99,32 @@ def test_data(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
     return read_test_sweeps(suspension)
 
 
-def geometry(suspension: Suspension, progress: Progress = _quiet) -> Identification | None:
-    """Step ``geometry``: the identified geometry when the config has CMM measurements."""
+def measurement_files(suspension: Suspension) -> list[Path]:
+    """The CMM files the config's ``measurements`` section names (for the cache key)."""
+    m = suspension.measurements
+    if m is None:
+        return []
+    folder = Path(suspension.source).parent / m.folder
+    names = [spec.file for spec in m.parts.values()] + [m.assembly.file]
+    return [folder / n for n in names + ([m.truth] if m.truth else [])]
+
+
+def geometry(suspension: Suspension, progress: Progress = _quiet,
+             cache: ResultCache | None = None) -> Identification | None:
+    """Step ``geometry``: the identified geometry when the config has CMM measurements (from
+    ``cache`` when the config and the CMM files are those it was computed from)."""
     if suspension.measurements is None:
         return None
-    progress("identifying the geometry from CMM data")
-    return identify_geometry(suspension)
+    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
+    ident = cache.get("geometry", key) if cache is not None else None
+    if ident is None:
+        progress("identifying the geometry from CMM data")
+        ident = identify_geometry(suspension)
+    else:
+        progress("identified geometry reused (same config and CMM files)")
+    if cache is not None:
+        cache.put("geometry", key, ident)
+    return ident
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -230,24 +252,31 @@ def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str]
 
 # ------------------------------------------------------------------------------- entry points
 def run_kc(suspension: Suspension, progress: Progress = _quiet,
-           detail: Progress = _quiet, models: list[str] | None = None) -> KCRun:
+           detail: Progress = _quiet, models: list[str] | None = None,
+           cache: ResultCache | None = None) -> KCRun:
     """The whole job from a config: identification (with measurements), design preloads, the
     static equilibrium and every load case of every model; with K&C test data, the errors of
     each model and the bushing-stiffness fit (:func:`fits_stiffness`). ``models``: only these
-    (:func:`select_models`). ``progress`` is called once per stage, ``detail`` for steps
-    within one."""
+    (:func:`select_models`). ``cache``: reuse the identification and the fit when every input
+    is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
+    called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
-    ident = geometry(suspension, progress)
-    return run_kc_from_identification(suspension, ident, progress, detail, (test, files),
-                                      models)
+    ident = geometry(suspension, progress, cache)
+    fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
+                          *map(Path, files))
+    run = run_kc_from_identification(suspension, ident, progress, detail, (test, files),
+                                     models, None if cache is None else (cache, fit_key))
+    run.reused = list(cache.reused) if cache is not None else []
+    return run
 
 
 def run_kc_from_identification(suspension: Suspension, ident: Identification | None,
                                progress: Progress = _quiet, detail: Progress = _quiet,
                                test: tuple[list[Sweep], list[str]] | None = None,
-                               models: list[str] | None = None) -> KCRun:
+                               models: list[str] | None = None,
+                               fit_cache: tuple[ResultCache, str] | None = None) -> KCRun:
     """The job from an identification result (None: the config's own geometry); ``models``:
-    only these (:func:`select_models`)."""
+    only these (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
     test = test if test is not None else test_data(suspension)
     variants = model_variants(suspension, ident)
     static_label = "identified" if ident is not None else "initial"
@@ -257,7 +286,7 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
             static_label = next(iter(variants))
     fit = models is None or "identified_stiffness" in models
     run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail,
-                               fit)
+                               fit, fit_cache)
     run.identification = ident
     return run
 
@@ -265,7 +294,8 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
 def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVariant],
                          static_label: str, test: tuple[list[Sweep], list[str]] = ([], []),
                          progress: Progress = _quiet, detail: Progress = _quiet,
-                         fit_stiffness: bool = True) -> KCRun:
+                         fit_stiffness: bool = True,
+                         fit_cache: tuple[ResultCache, str] | None = None) -> KCRun:
     """The job from model variants: ``static_label`` names the one whose static equilibrium
     is reported and from which the stiffness fit starts (``fit_stiffness``: when the config
     asks for it, :func:`fits_stiffness`)."""
@@ -281,8 +311,15 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
     stiffness = None
     test_sweeps, files = test
     if test_sweeps and fit_stiffness and fits_stiffness(suspension):
-        progress("identifying bushing stiffness from the K&C test data")
-        stiffness = fit(suspension, variants[static_label], test_sweeps, detail)
+        cache, key = fit_cache or (None, "")
+        stiffness = cache.get("stiffness_fit", key) if cache is not None else None
+        if stiffness is None:
+            progress("identifying bushing stiffness from the K&C test data")
+            stiffness = fit(suspension, variants[static_label], test_sweeps, detail)
+        else:
+            progress("bushing stiffness fit reused (same config, CMM and test files)")
+        if cache is not None:
+            cache.put("stiffness_fit", key, stiffness)
         fitted = ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
         models["identified_stiffness"] = load_cases(fitted, progress)
     models, errors, warnings = compare(models, test_sweeps, files)
