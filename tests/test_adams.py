@@ -96,7 +96,10 @@ def test_reader_structure_and_line_numbers():
 
 @pytest.mark.parametrize("text, line, words", [
     ("[A]\n X = 1\n[B\n", 3, "malformed block header"),
-    ("[A]\n X = 1\n X = 2\n", 3, "X is given twice (first at line 2)"),
+    ("[A]\n{a b}\n 'a description before any row'\n", 3, "description row"),
+    ("[A]\n{a b}\n 1 2 3 text\n", 3, "row has 4 values"),
+    ("[A]\n X = 1 'two'\n", 2, "expected one value"),
+    ("[]\n", 1, "malformed block header"),
     ("[A]\n{a b}\n 1 2\n 1 2 3\n", 4, "row has 3 values but the table {a b} (line 2)"),
     ("[A]\n 1 2\n", 2, "unrecognised line"),
     ("X = 1\n", 1, "before the first [BLOCK]"),

@@ -229,3 +229,241 @@ def clean(x: float) -> float:
     """A plain float, without the sign of a negative zero."""
     x = float(x)
     return 0.0 if x == 0.0 else x
+
+
+# ----------------------------------------------------------------------------------------------
+# Hardpoints
+
+HARDPOINT_COLUMNS = ("hardpoint_name", "symmetry", "x_value", "y_value", "z_value")
+#: symmetry values of a hardpoint row: a pair (left point stored), a single point, or one side
+#: of an asymmetric pair (each side its own row)
+SYMMETRIES = ("left/right", "single", "left", "right")
+
+
+@dataclass(frozen=True)
+class AdamsHardpoint:
+    """A hardpoint of a hardpoint table: ``position_mm`` as stored (ADAMS/Car global frame,
+    mm; the left point of a ``left/right`` pair), ``symmetry`` ``left/right``, ``single``, or
+    for an asymmetric pair ``left``, ``right`` or ``asymmetric`` (both rows), whose points are
+    in ``sides``."""
+
+    name: str
+    symmetry: str
+    position_mm: tuple[float, float, float]
+    line: int
+    sides: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+
+    def at(self, side: str) -> np.ndarray:
+        """The point on ``side`` (left/right), ADAMS frame, mm: the right point of a pair is the
+        Y mirror of the stored left one; a ``single`` point is the same on both sides; an
+        asymmetric pair gives each side its own row."""
+        p = np.array(self.position_mm, float)
+        if self.symmetry == "single":
+            return p
+        if self.symmetry == "left/right":
+            if side == "right":
+                p[1] = -p[1]
+            return p
+        if side not in self.sides:
+            raise ConfigError(f"hardpoint '{self.name}' (line {self.line}) has no {side} row "
+                              f"(its rows: {', '.join(self.sides)})")
+        return np.array(self.sides[side], float)
+
+
+def _add_hardpoint(points: dict[str, AdamsHardpoint], hp: AdamsHardpoint, fail: Fail) -> None:
+    old = points.get(hp.name)
+    if old is None:
+        points[hp.name] = hp
+        return
+    if old.symmetry in ("left", "right") and hp.symmetry in ("left", "right") \
+            and old.symmetry != hp.symmetry:
+        points[hp.name] = AdamsHardpoint(hp.name, "asymmetric", old.position_mm, old.line,
+                                         {**old.sides, **hp.sides})
+        return
+    raise fail(hp.line, f"hardpoint '{hp.name}' is given twice (first at line {old.line})")
+
+
+def read_hardpoints(path: str | Path, warnings: list[str] | None = None
+                    ) -> dict[str, AdamsHardpoint]:
+    """Every row of every ``{hardpoint_name symmetry x_value y_value z_value}`` table of a
+    TeimOrbit file (a subsystem ``.sub``, an assembly ``.asy`` or a hardpoint table), converted
+    to mm. ``path`` may also be an ADAMS/Car database folder (:func:`subsystem_file`). What was
+    read tolerantly is appended to ``warnings``."""
+    f = read_teimorbit(subsystem_file(path))
+    if warnings is not None:
+        warnings += f.warnings
+    points: dict[str, AdamsHardpoint] = {}
+    found = False
+    for block in f.blocks:
+        for section in (block, *block.sub_blocks):
+            for t in section.tables:
+                if tuple(c.lower() for c in t.columns) != HARDPOINT_COLUMNS:
+                    continue
+                found = True
+                for row, n in zip(t.rows, t.row_lines):
+                    name, sym, *xyz = row
+                    if not isinstance(name, str) or not name:
+                        raise f.error(n, block.name, f"hardpoint name {name!r}: expected a "
+                                      "quoted name")
+                    sym = str(sym).strip().lower()
+                    if sym not in SYMMETRIES:
+                        raise f.error(n, block.name, f"hardpoint '{name}': symmetry {row[1]!r},"
+                                      f" expected one of {', '.join(SYMMETRIES)}")
+                    if not all(isinstance(v, float) and math.isfinite(v) for v in xyz):
+                        raise f.error(n, block.name, f"hardpoint '{name}': x y z values must "
+                                      f"be numbers, got {xyz}")
+                    sides = {sym: tuple(xyz)} if sym in ("left", "right") else {}
+                    _add_hardpoint(points, AdamsHardpoint(name, sym, tuple(xyz), n, sides),
+                                   lambda line, msg, b=block.name: f.error(line, b, msg))
+    if not found:
+        raise ConfigError(f"{f.path}: no hardpoint table "
+                          f"{{{' '.join(HARDPOINT_COLUMNS)}}} in any block")
+    return points
+
+
+def subsystem_file(path: str | Path) -> Path:
+    """``path`` itself, or for a folder (an ADAMS/Car database ``.cdb`` or one of its table
+    folders ``*.tbl``) the one subsystem file in the database's ``subsystems.tbl``."""
+    p = Path(path)
+    if not p.is_dir():
+        return p
+    db = p.parent if p.name.lower().endswith(".tbl") else p
+    table = db / "subsystems.tbl"
+    subs = sorted(table.glob("*.sub")) if table.is_dir() else []
+    if len(subs) != 1:
+        raise ConfigError(f"{p}: a folder; expected a subsystem file, or an ADAMS/Car database "
+                          f"(or one of its .tbl folders) whose subsystems.tbl holds one .sub "
+                          f"file (found {len(subs)}: "
+                          f"{', '.join(s.name for s in subs) or 'none'})")
+    return subs[0]
+
+
+def database_file(reference: str, subsystem: str | Path) -> Path:
+    """A property file named in a subsystem file (``mdids://<database>/bushings.tbl/x.bus``,
+    ``<database>/bushings.tbl/x.bus`` or a plain path) as a path: a database reference is taken
+    in the database that holds the subsystem file (its ``subsystems.tbl``'s parent), whatever
+    the alias; a plain relative path from the subsystem file's folder."""
+    sub = Path(subsystem)
+    m = re.match(r"^(?:mdids://[^/\\]+|<[^>]+>)[/\\]+(.*)$", reference.strip())
+    if not m:
+        return sub.parent / reference.strip()
+    db = sub.parent.parent if sub.parent.name.lower().endswith(".tbl") else sub.parent
+    return db.joinpath(*re.split(r"[/\\]+", m.group(1)))
+
+
+def _lookup(points: Mapping[str, AdamsHardpoint], name: str, side: str | None,
+            where: str) -> tuple[AdamsHardpoint, str | None]:
+    """The table row of ``name``: exact, case-insensitive, or ``hpl_/hpr_/hps_`` + name (the
+    prefix then gives the side, which must agree with an explicit one)."""
+    by_lower = {k.lower(): v for k, v in points.items()}
+    if name in points or name.lower() in by_lower:
+        return points.get(name) or by_lower[name.lower()], side
+    prefix = {"hpl_": "left", "hpr_": "right", "hps_": None}
+    for pre, pside in prefix.items():
+        base = name[len(pre):]
+        if name.lower().startswith(pre) and base.lower() in by_lower:
+            if side is not None and pside is not None and side != pside:
+                raise ConfigError(f"{where}: '{name}' names the {pside} point but side is "
+                                  f"{side}")
+            return by_lower[base.lower()], pside or side
+    known = ", ".join(sorted(points))
+    raise ConfigError(f"{where}: ADAMS hardpoint '{name}' is not in the hardpoint table "
+                      f"({len(points)} hardpoints: {known})")
+
+
+def apply_hardpoints(config: dict, points: Mapping[str, AdamsHardpoint],
+                     mapping: AdamsMapping, source: str = "template config"
+                     ) -> tuple[dict, list[str]]:
+    """A copy of ``config`` (an elastokin config dict) whose mapped ``hardpoints`` are the ADAMS
+    points: the side chosen (hardpoint's, else mapping's, else the config's ``side``), then
+    converted from the ADAMS frame to the config's ``frame``. ``source`` names the config in
+    errors. Returns (config, warnings)."""
+    cfg = copy.deepcopy(config)
+    if not isinstance(cfg.get("hardpoints"), dict):
+        raise ConfigError(f"{source}: key 'hardpoints': expected a mapping")
+    if not isinstance(cfg.get("frame"), dict) or cfg.get("side") not in ("left", "right"):
+        raise ConfigError(f"{source}: keys 'frame' and 'side' (left or right) are needed to "
+                          "place the ADAMS hardpoints")
+    default_side = mapping.side or cfg["side"]
+    warnings = []
+    for name, (adams_name, side) in mapping.hardpoints.items():
+        where = f"{mapping.path}: key 'hardpoints.{name}'"
+        if name not in cfg["hardpoints"]:
+            raise ConfigError(f"{where}: '{name}' is not a hardpoint of {source} "
+                              f"({', '.join(cfg['hardpoints'])})")
+        hp, side = _lookup(points, adams_name, side, where)
+        side = side or default_side
+        if hp.symmetry != "single" and side != cfg["side"]:
+            warnings.append(f"{where}: takes the {side} point of '{hp.name}' for a "
+                            f"{cfg['side']} corner")
+        try:
+            p = adams_to_config(hp.at(side), cfg["frame"])
+        except ConfigError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        cfg["hardpoints"][name] = [clean(v) for v in p]
+    unmapped = [n for n in cfg["hardpoints"] if n not in mapping.hardpoints]
+    if unmapped:
+        warnings.append(f"{mapping.path}: template hardpoints not in the mapping, kept as they "
+                        f"were: {', '.join(unmapped)}")
+    return cfg, warnings
+
+
+def apply_bushings(config: dict, bushings: Mapping[str, BushingProperties],
+                   source: str = "template config") -> dict:
+    """A copy of ``config`` with the ``stiffness`` of each named bushing replaced (``source``
+    names the config in errors)."""
+    cfg = copy.deepcopy(config)
+    conns = cfg.get("connections") or {}
+    for name, props in bushings.items():
+        spec = conns.get(name)
+        if not isinstance(spec, dict) or spec.get("type") != "bushing":
+            names = [n for n, c in conns.items() if isinstance(c, dict)
+                     and c.get("type") == "bushing"]
+            raise ConfigError(f"{props.path}: given for '{name}', which is not a bushing of "
+                              f"{source} (bushings: {', '.join(names) or 'none'})")
+        spec["stiffness"] = copy.deepcopy(props.stiffness)
+    return cfg
+
+
+def _assembly_files(sub: Path, mapping: AdamsMapping, side: str) -> dict[str, Path]:
+    """Bushings the mapping names by ADAMS usage only: the PROPERTY_FILE of the subsystem's
+    ``[BUSHING_ASSEMBLY]`` of that usage on ``side`` (or its ``single`` one)."""
+    wanted = {n: u for n, u in mapping.bushing_usage.items() if n not in mapping.bushings}
+    if not wanted:
+        return {}
+    blocks = read_assemblies(sub, "BUSHING_ASSEMBLY")
+    out = {}
+    for name, usage in wanted.items():
+        sides = blocks.get(usage, {})
+        a = sides.get(side) or sides.get("single")
+        if a is None or a.property_file is None:
+            raise ConfigError(f"{mapping.path}: key 'bushings.{name}': no [BUSHING_ASSEMBLY] "
+                              f"of USAGE '{usage}' ({side}) with a PROPERTY_FILE in {sub} "
+                              f"(usages: {', '.join(sorted(blocks)) or 'none'})")
+        out[name] = database_file(a.property_file, sub)
+    return out
+
+
+def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str | Path,
+                 bushing_files: Mapping[str, str | Path] | None = None,
+                 source: str = "template config") -> tuple[dict, list[str]]:
+    """An elastokin config dict: ``template`` with its hardpoints taken from an ADAMS hardpoint
+    table (a subsystem file, or an ADAMS/Car database holding one) through a mapping file, and
+    the stiffness of the named bushings from property files: ``bushing_files``, else the
+    mapping's ``file``, else the PROPERTY_FILE of the subsystem's ``[BUSHING_ASSEMBLY]`` of the
+    mapping's ``usage``. Not yet validated: pass it to
+    :func:`elastokin.config.loading.suspension_from_dict`. ``source`` names the template in
+    errors. Returns (config, warnings)."""
+    mapping = read_mapping(mapping_file)
+    sub = subsystem_file(hardpoints_file)
+    warnings: list[str] = []
+    points = read_hardpoints(sub, warnings)
+    cfg, more = apply_hardpoints(template, points, mapping, source)
+    warnings += more
+    side = mapping.side or template.get("side") or "left"
+    files = {**_assembly_files(sub, mapping, side), **mapping.bushings,
+             **{k: Path(v) for k, v in (bushing_files or {}).items()}}
+    props = {name: read_bushing(file) for name, file in files.items()}
+    for p in props.values():
+        warnings += p.warnings
+    return apply_bushings(cfg, props, source), warnings

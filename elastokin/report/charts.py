@@ -119,6 +119,8 @@ def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict) -> list[Path
     if len(jobs) > 2 and sys.platform.startswith("linux") and (os.cpu_count() or 1) > 1:
         import multiprocessing
 
+        new_figure()[0].close("all")  # pyplot imported once, before the fork
+
         with multiprocessing.get_context("fork").Pool(2) as pool:
             done = pool.starmap(_overlay, jobs)
     else:

@@ -1,0 +1,173 @@
+"""An ADAMS/Car subsystem file (``.sub``) out: ``[MDI_HEADER]``, ``[SUBSYSTEM_HEADER]``
+(template and roles), ``[UNITS]``, ``[HARDPOINT]`` with the template's hardpoint names (through
+the mapping file), and the ``[BUSHING_ASSEMBLY]`` and ``[NSPRING_ASSEMBLY]`` blocks in the form
+ADAMS/Car writes them (``DEFINITION``, ``USAGE``, ``SYMMETRY``, ``PROPERTY_FILE`` as an
+``mdids://`` database path).
+
+Pure Python/numpy. Hardpoints are in ADAMS/Car's global frame (X rearward, Y right, Z up): a
+``left/right`` row stores the left point; two elastokin points mapped onto the two sides of one
+ADAMS hardpoint that are not each other's mirror are written as an asymmetric pair (a ``left``
+and a ``right`` row); a point mapped onto a ``single`` hardpoint (``hps_`` prefix) is a
+``single`` row. Conventions: ``docs/adams.md``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
+from elastokin.formats.adams_mapping import AdamsMapping, config_to_adams
+from elastokin.formats.adams_property_files import UNITS_LINES, key_line, number, provenance, rule
+
+__all__ = [
+    "AssemblyRow",
+    "HardpointRow",
+    "SubsystemSpec",
+    "adams_name",
+    "hardpoint_rows",
+    "safe_name",
+    "subsystem_text",
+]
+
+_PREFIX = {"hpl_": "left", "hpr_": "right", "hps_": "single"}
+
+
+def safe_name(name: str) -> str:
+    """A name usable as an ADAMS file name or USAGE: letters, digits, ``_ . -``."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "elastokin"
+
+
+@dataclass(frozen=True)
+class SubsystemSpec:
+    """What the ``[SUBSYSTEM_HEADER]`` says and where the files go: subsystem file ``name``
+    (without ``.sub``), ``template`` (an ``mdids://`` path), ``major_role``, ``minor_role``,
+    ``database`` (the alias of the ``mdids://`` paths)."""
+
+    name: str
+    template: str
+    major_role: str
+    minor_role: str
+    database: str
+
+    def path(self, table: str, file: str) -> str:
+        return f"mdids://{self.database}/{table}/{file}"
+
+
+@dataclass(frozen=True)
+class HardpointRow:
+    """A ``[HARDPOINT]`` row: ADAMS name, symmetry, point (ADAMS frame, mm) and the elastokin
+    hardpoints written in it."""
+
+    name: str
+    symmetry: str
+    xyz: tuple[float, float, float]
+    sources: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class AssemblyRow:
+    """One assembly block: USAGE, PROPERTY_FILE and its other keys, and comment lines."""
+
+    usage: str
+    property_file: str
+    values: tuple[tuple[str, float | str], ...]
+    comments: tuple[str, ...] = ()
+
+
+def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
+               ) -> tuple[str, str]:
+    """The ADAMS hardpoint an elastokin hardpoint is written as, and its side (``left``,
+    ``right`` or ``single``): the mapping's name (an ``hpl_``/``hpr_``/``hps_`` prefix gives the
+    side), its explicit side, else the mapping's or the config's side."""
+    adams, side = mapping.hardpoints.get(name, (name, None)) if mapping else (name, None)
+    for pre, pside in _PREFIX.items():
+        if adams.lower().startswith(pre) and len(adams) > len(pre):
+            if side is not None and pside != "single" and side != pside:
+                raise ConfigError(f"{mapping.path}: key 'hardpoints.{name}': '{adams}' names "
+                                  f"the {pside} point but side is {side}")
+            adams, side = adams[len(pre):], pside
+            break
+    return adams, side or (mapping.side if mapping and mapping.side else default_side)
+
+
+def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None
+                   ) -> tuple[list[HardpointRow], dict[str, tuple[str, str]]]:
+    """The ``[HARDPOINT]`` rows of a suspension (ADAMS frame) and, per elastokin hardpoint, the
+    (ADAMS name, side) it was written as. Two points on one ADAMS hardpoint and side must be
+    the same point (ConfigError otherwise)."""
+    per: dict[str, dict[str, tuple[np.ndarray, list[str]]]] = {}
+    written = {}
+    for name, p in s.hardpoints.items():
+        adams, side = adams_name(mapping, name, s.side)
+        q = config_to_adams(p, s.frame)
+        sides = per.setdefault(adams, {})
+        if side in sides:
+            old, names = sides[side]
+            if np.max(np.abs(old - q)) > 1e-9:
+                raise ConfigError(f"{mapping.path if mapping else s.source}: hardpoints "
+                                  f"{names[0]} and {name} are both written as the {side} point "
+                                  f"of ADAMS hardpoint '{adams}' but differ")
+            names.append(name)
+        else:
+            sides[side] = (q, [name])
+        written[name] = (adams, side)
+    rows = []
+    mirror = np.array([1.0, -1.0, 1.0])
+    for adams, sides in per.items():
+        if "single" in sides and len(sides) > 1:
+            raise ConfigError(f"{mapping.path if mapping else s.source}: ADAMS hardpoint "
+                              f"'{adams}' is written both as a single point and as a side")
+        if "single" in sides:
+            q, names = sides["single"]
+            rows.append(HardpointRow(adams, "single", tuple(q), tuple(names)))
+            continue
+        left = sides.get("left")
+        right = sides.get("right")
+        if left and right and np.max(np.abs(left[0] - mirror * right[0])) > 1e-9:
+            rows += [HardpointRow(adams, "left", tuple(left[0]), tuple(left[1])),
+                     HardpointRow(adams, "right", tuple(right[0]), tuple(right[1]))]
+            continue
+        q = left[0] if left else mirror * right[0]
+        names = (left[1] if left else []) + (right[1] if right else [])
+        rows.append(HardpointRow(adams, "left/right", tuple(q), tuple(names)))
+    return rows, written
+
+
+def _assembly(block: str, definition: str, symmetry: str, row: AssemblyRow) -> list[str]:
+    keys = [("DEFINITION", definition), ("USAGE", row.usage), ("SYMMETRY", symmetry),
+            ("PROPERTY_FILE", row.property_file), *row.values]
+    width = max(len(k) for k, _ in keys)
+    return [rule(block), f"[{block}]", *row.comments, *(key_line(k, v, width) for k, v in keys)]
+
+
+def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
+                   bushings: list[AssemblyRow], springs: list[AssemblyRow],
+                   timestamp: str) -> str:
+    """The subsystem file: headers, units (mm, newton, deg, kg, sec), hardpoints, bushing and
+    spring assemblies (``left/right``: the same values on both sides)."""
+    lines = [provenance(s),
+             "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
+             "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
+             "$ design position, bushing frame, on the I part; orientations are the template's.",
+             rule("MDI_HEADER"), "[MDI_HEADER]", key_line("FILE_TYPE", "sub", 12),
+             key_line("FILE_VERSION", 7.0, 12), key_line("FILE_FORMAT", "ASCII", 12),
+             rule("SUBSYSTEM_HEADER"), "[SUBSYSTEM_HEADER]",
+             key_line("TEMPLATE_NAME", spec.template, 13),
+             key_line("MAJOR_ROLE", spec.major_role, 13),
+             key_line("MINOR_ROLE", spec.minor_role, 13),
+             key_line("TIMESTAMP", timestamp, 13),
+             rule("UNITS"), *UNITS_LINES, rule("HARDPOINT"), "[HARDPOINT]",
+             "{hardpoint_name                  symmetry         x_value    y_value    z_value}"]
+    width = max([len(r.name) for r in rows] + [28])
+    for r in rows:
+        lines.append(f" '{r.name.ljust(width)}'  '{r.symmetry.ljust(10)}'"
+                     + "".join(" " + number(v).rjust(10) for v in r.xyz))
+    for b in bushings:
+        lines += _assembly("BUSHING_ASSEMBLY", ".ACAR.forces.ac_bushing", "left/right", b)
+    for sp in springs:
+        lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", "left/right", sp)
+    return "\n".join(lines) + "\n"
