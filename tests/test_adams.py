@@ -324,27 +324,41 @@ def mcpherson():
     return data, s, design_state(s).bushing_preload
 
 
-def test_export_is_deterministic_and_reads_back(tmp_path, mcpherson):
+def sub_file(folder: Path) -> Path:
+    """The one subsystem file of an exported database."""
+    (sub,) = (folder / "subsystems.tbl").glob("*.sub")
+    return sub
+
+
+def test_export_is_deterministic_and_reads_back(tmp_path, mcpherson, monkeypatch):
     data, s, preload = mcpherson
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")  # the subsystem's TIMESTAMP
     a = adams_export.export_adams(s, tmp_path / "a", preload)
-    b = adams_export.export_adams(s, tmp_path / "b", preload)
-    assert [p.name for p in a] == ["hardpoints.tbl", "J1.bus", "J2.bus", "J4.bus",
-                                   "bushing_assembly.txt", "mapping.yaml"]
+    b = adams_export.export_adams(s, tmp_path / "again" / "a", preload)  # same alias
+    assert [p.relative_to(tmp_path / "a").as_posix() for p in a] == [
+        "subsystems.tbl/pseudo-McPherson_front_left_Meissonnier_et_al._2006.sub",
+        "bushings.tbl/J1.bus", "bushings.tbl/J2.bus", "bushings.tbl/J4.bus",
+        "springs.tbl/coil.spr", "mapping.yaml"]
     for pa, pb in zip(a, b):
         assert pa.read_bytes() == pb.read_bytes(), pa.name
-    points = adams_car.read_hardpoints(tmp_path / "a" / "hardpoints.tbl")
+    assert "TIMESTAMP      =  '2023/11/14,22:13:20'" in a[0].read_text()
+    points = adams_car.read_hardpoints(tmp_path / "a")
     assert set(points) == set(s.hardpoints)
     for name, p in s.hardpoints.items():  # this config is in the ADAMS frame, left side
         assert points[name].symmetry == "left/right"
         assert points[name].position_mm == tuple(p)
-    j1 = adams_car.read_bushing(tmp_path / "a" / "J1.bus")
+    j1 = adams_car.read_bushing(tmp_path / "a" / "bushings.tbl" / "J1.bus")
     assert j1.stiffness["x"] == {"deflection": [-10.0, -5.0, 0.0, 5.0, 10.0],
                                  "load": [-3000.0, -1500.0, 0.0, 1500.0, 3000.0]}
     assert j1.stiffness["rz"]["load"][-1] == 16000.0  # 1600 N*mm/deg over +-10 deg
-    back = adams_car.read_bushing_assemblies(tmp_path / "a" / "bushing_assembly.txt")
+    back = adams_car.read_bushing_assemblies(sub_file(tmp_path / "a"))
     for name, p in preload.items():
-        np.testing.assert_allclose(back[name], p, atol=1e-6)
-    assert back["J4"][2] == pytest.approx(4824.36, abs=0.01)  # the strut load on the top mount
+        assert back[name]["left"] is back[name]["right"]  # one 'left/right' block
+        assert back[name]["left"].definition == ".ACAR.forces.ac_bushing"
+        assert back[name]["left"].property_file == f"mdids://a/bushings.tbl/{name}.bus"
+        np.testing.assert_allclose(back[name]["left"].preload, p, atol=1e-6)
+    # the strut load on the top mount
+    assert back["J4"]["left"].preload[2] == pytest.approx(4824.36, abs=0.01)
 
 
 def test_export_iso_frame_and_nonlinear_curve(tmp_path):
@@ -353,15 +367,15 @@ def test_export_iso_frame_and_nonlinear_curve(tmp_path):
     s = suspension_from_dict(read_yaml(WISHBONE)[0], "double_wishbone.yaml")
     adams_export.export_adams(s, tmp_path, design_state(s).bushing_preload, range_mm=5.0,
                               range_deg=40.0)
-    points = adams_car.read_hardpoints(tmp_path / "hardpoints.tbl")
+    points = adams_car.read_hardpoints(tmp_path)
     assert points["lca_front"].position_mm == (-200.0, -350.0, 150.0)  # ISO -> ADAMS, Y < 0
-    bus = adams_car.read_bushing(tmp_path / "lca_bushing.bus")
+    bus = adams_car.read_bushing(tmp_path / "bushings.tbl" / "lca_bushing.bus")
     # the curve as given (+-30 deg), extended with its end slopes to the asked +-40 deg
     assert bus.stiffness["rz"] == {"deflection": [-40.0, -30.0, -10.0, 0.0, 10.0, 30.0, 40.0],
                                    "load": [-42500.0, -30000.0, -5000.0, 0.0, 5000.0, 30000.0,
                                             42500.0]}
     assert bus.stiffness["z"]["deflection"] == [-5.0, -2.5, 0.0, 2.5, 5.0]
-    text = (tmp_path / "bushing_assembly.txt").read_text()
+    text = sub_file(tmp_path).read_text()
     assert "$   location 0.0 -350.0 150.0 mm" in text  # lca_pivot in the ADAMS frame
 
 
@@ -418,8 +432,7 @@ def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
     data, s, preload = mcpherson
     adams_export.export_adams(s, tmp_path, preload)
     template = _scrambled(data)
-    cfg, warnings = adams_car.import_adams(template, tmp_path / "hardpoints.tbl",
-                                           tmp_path / "mapping.yaml")
+    cfg, warnings = adams_car.import_adams(template, tmp_path, tmp_path / "mapping.yaml")
     assert warnings == []
     back = suspension_from_dict(cfg, "imported.yaml")
     for name, p in s.hardpoints.items():
@@ -440,7 +453,7 @@ def test_round_trip_iso_frame_double_wishbone(tmp_path):
     data = read_yaml(WISHBONE)[0]
     s = suspension_from_dict(data, "double_wishbone.yaml")
     adams_export.export_adams(s, tmp_path, design_state(s).bushing_preload)
-    cfg, _ = adams_car.import_adams(_scrambled(data), tmp_path / "hardpoints.tbl",
+    cfg, _ = adams_car.import_adams(_scrambled(data), sub_file(tmp_path),
                                     tmp_path / "mapping.yaml")
     assert cfg["hardpoints"] == data["hardpoints"]  # ISO -> ADAMS -> ISO, exactly
     assert steer_amplitude(cfg, "imported.yaml") == pytest.approx(
@@ -457,8 +470,10 @@ def test_cli_export_then_import(tmp_path, case_path):
     r = runner.invoke(main, ["export-adams", "--config", str(case_path), "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert "wrote 6 files" in r.output
-    assert sorted(p.name for p in out.iterdir()) == [
-        "J1.bus", "J2.bus", "J4.bus", "bushing_assembly.txt", "hardpoints.tbl", "mapping.yaml"]
+    assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()) == [
+        "bushings.tbl/J1.bus", "bushings.tbl/J2.bus", "bushings.tbl/J4.bus", "mapping.yaml",
+        "springs.tbl/coil.spr",
+        "subsystems.tbl/pseudo-McPherson_front_left_Meissonnier_et_al._2006.sub"]
     data = read_yaml(case_path)[0]
     scrambled = _scrambled(data)
     scrambled["measurements"]["folder"] = "cmm"  # relative to the template
@@ -467,7 +482,7 @@ def test_cli_export_then_import(tmp_path, case_path):
     template = tmp_path / "tpl" / "template.yaml"
     template.write_text(yaml.safe_dump(scrambled, sort_keys=False))
     new = tmp_path / "sub" / "new.yaml"
-    r = runner.invoke(main, ["import-adams", "--hardpoints", str(out / "hardpoints.tbl"),
+    r = runner.invoke(main, ["import-adams", "--hardpoints", str(out),
                              "--mapping", str(out / "mapping.yaml"), "--template",
                              str(template), "--bushing",
                              f"J4={ADAMS / 'bushing_mm_newton_deg.bus'}", "--out", str(new)])
@@ -494,10 +509,10 @@ def test_cli_export_identified_with_kc(tmp_path, case_path):
                                   str(out), "--identified", "--kc", str(kc)])
     assert r.exit_code == 0, r.output
     ident = identify(load_suspension(case_path)).identified_config
-    points = adams_car.read_hardpoints(out / "hardpoints.tbl")
+    points = adams_car.read_hardpoints(out)
     for name, p in ident["hardpoints"].items():
         assert points[name].position_mm == pytest.approx(p, abs=1e-9)
-    assert "(identified)" in (out / "J1.bus").read_text().splitlines()[0]
+    assert "(identified)" in (out / "bushings.tbl" / "J1.bus").read_text().splitlines()[0]
     assert (out / "kc_adams.csv").read_text().splitlines()[-2:] == [
         "model,load_case,step,branch,toe_angle,wheel_center_x",
         "identified,parallel_travel,1,stroke,0.25,1.5"]

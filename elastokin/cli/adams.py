@@ -42,9 +42,10 @@ def _sha(path: Path) -> str:
 
 @click.command("import-adams")
 @click.option("--hardpoints", "hardpoints_path", required=True,
-              type=click.Path(dir_okay=False, path_type=Path),
-              help="ADAMS/Car hardpoint table: a TeimOrbit file (.sub or table) with "
-                   "{hardpoint_name symmetry x_value y_value z_value}.")
+              type=click.Path(path_type=Path),
+              help="ADAMS/Car hardpoint table: a TeimOrbit file (.sub, .asy or table) with "
+                   "{hardpoint_name symmetry x_value y_value z_value}, or an ADAMS/Car "
+                   "database folder (or one of its .tbl folders) holding one subsystem file.")
 @click.option("--mapping", "mapping_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Mapping file (YAML, docs/adams.md): elastokin hardpoint -> ADAMS "
@@ -53,8 +54,8 @@ def _sha(path: Path) -> str:
               type=click.Path(dir_okay=False, path_type=Path),
               help="elastokin config whose topology, parts and laws are kept.")
 @click.option("--bushing", "bushings", multiple=True, metavar="NAME=FILE.bus",
-              help="Bushing property file for an elastokin bushing (repeatable; overrides the "
-                   "mapping file's 'bushings').")
+              help="Bushing property file (.bus or XML) for an elastokin bushing (repeatable; "
+                   "overrides the mapping file's 'bushings').")
 @click.option("--out", "out_path", required=True,
               type=click.Path(path_type=Path), metavar="FILE",
               help="The new elastokin config (YAML); written only when it is valid.")
@@ -64,7 +65,13 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
     from an ADAMS hardpoint table (converted from the ADAMS frame, X rearward / Y right / Z up,
     to the template's frame) and the stiffness of the named bushings from .bus files."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
-    from elastokin.formats.adams_car import import_adams, read_mapping
+    from elastokin.formats.adams_car import (
+        bushing_sources,
+        import_adams,
+        read_bushing,
+        read_mapping,
+        subsystem_file,
+    )
     from elastokin.formats.config_yaml import dump_config
 
     with WarningLog() as log:
@@ -74,15 +81,19 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
             bus_files = _bushing_option(bushings)
             cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
                                          f"template {template_path}")
-            bus_files = {**read_mapping(mapping_path).bushings, **bus_files}
+            mapping = read_mapping(mapping_path)
+            sub = subsystem_file(hardpoints_path)
+            bus_files = bushing_sources(sub, mapping, mapping.side or template.get("side")
+                                        or "left", bus_files)
             _keep_data_folders(cfg, template_path, out_path)
             # the new config must be valid; an error names the template it was made from
             suspension_from_dict(cfg, f"{out_path} (the template {template_path} with the "
                                       "ADAMS hardpoints and bushings)")
-            sources = [f"hardpoints {hardpoints_path} (sha256 {_sha(hardpoints_path)})",
+            sources = [f"hardpoints {sub} (sha256 {_sha(sub)})",
                        f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
                        f"template {template_path} (sha256 {_sha(template_path)})",
-                       *(f"bushing {n}: {f} (sha256 {_sha(f)})" for n, f in bus_files.items())]
+                       *(f"bushing {n}: {f} (sha256 {_sha(f)}); "
+                         f"{read_bushing(f).interpolation_note()}" for n, f in bus_files.items())]
             text = dump_config(cfg, _import_header(sources, cfg["frame"]))
         except ElastokinError as exc:
             fail(str(exc))
@@ -136,14 +147,34 @@ def _write_atomically(out_path: Path, text: str) -> None:
         raise
 
 
+def _export_output(out_dir: Path):
+    """The Output of export-adams: a folder holding an earlier export (its mapping.yaml, or
+    the hardpoints.tbl of an export before the database layout) is replaced as a whole."""
+    old = (out_dir / "hardpoints.tbl").is_file() and not (out_dir / "mapping.yaml").exists()
+    return Output(out_dir, marker="hardpoints.tbl" if old else "mapping.yaml")
+
+
 @click.command("export-adams")
 @click.option("--config", "config_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="elastokin config (e.g. identified.yaml written by 'elastokin identify').")
 @click.option("--out", "out_dir", required=True,
-              type=click.Path(path_type=Path), metavar="DIRECTORY",
-              help="Folder for the ADAMS/Car files; replaced as a whole when the export "
-                   "succeeds.")
+              type=click.Path(path_type=Path), metavar="DATABASE.cdb",
+              help="Folder written as an ADAMS/Car database (subsystems.tbl, bushings.tbl, "
+                   "springs.tbl, mapping.yaml); replaced as a whole when the export succeeds.")
+@click.option("--mapping", "mapping_path", default=None,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Mapping file (YAML, docs/adams.md): the template's hardpoint names, bushing "
+                   "and spring usages, and 'subsystem: {template, major_role, minor_role}'.")
+@click.option("--template-name", default=None, metavar="MDIDS_PATH",
+              help="The subsystem's TEMPLATE_NAME (e.g. "
+                   "mdids://acar_shared/templates.tbl/_double_wishbone.tpl); overrides the "
+                   "mapping file.")
+@click.option("--major-role", default=None, help="MAJOR_ROLE (default: suspension).")
+@click.option("--minor-role", default=None, help="MINOR_ROLE (default: front).")
+@click.option("--database", default=None, metavar="ALIAS",
+              show_default="the --out folder's name without .cdb",
+              help="Database alias of the mdids:// paths in the subsystem file.")
 @click.option("--identified", is_flag=True,
               help="Identify the geometry from the config's CMM measurements first and export "
                    "the identified model.")
@@ -154,19 +185,26 @@ def _write_atomically(out_path: Path, text: str) -> None:
               help="Half-range of the tables written for linear translational rates (mm).")
 @click.option("--range-deg", default=10.0, show_default=True, type=float,
               help="Half-range of the tables written for linear rotational rates (deg).")
-def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Path | None,
+def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
+                 template_name: str | None, major_role: str | None, minor_role: str | None,
+                 database: str | None, identified: bool, kc_csv: Path | None,
                  range_mm: float, range_deg: float) -> None:
-    """Write ADAMS/Car files for a suspension: hardpoints.tbl (ADAMS frame, mm), one .bus file
-    per bushing (mm, newton, degrees), bushing_assembly.txt ([BUSHING_ASSEMBLY] blocks with the
-    design preloads, to paste into a subsystem file) and mapping.yaml (for import-adams)."""
+    """Write a suspension as an ADAMS/Car database: subsystems.tbl/<name>.sub (template and
+    roles, hardpoints in the ADAMS frame with the template's names, bushing and spring
+    assemblies), bushings.tbl/*.bus, springs.tbl/*.spr (mm, newton, deg), and mapping.yaml
+    (for import-adams)."""
     from elastokin.config.loading import load_suspension, suspension_from_dict
     from elastokin.formats.adams_export import export_adams as write_files
+    from elastokin.formats.adams_export import subsystem_spec
     from elastokin.formats.adams_kc import write_adams_kc_csv
+    from elastokin.formats.adams_mapping import read_mapping
 
-    output = Output(out_dir, marker="hardpoints.tbl")
+    output = _export_output(out_dir)
+    warnings: list[str] = []
     with WarningLog() as log:
         try:
             output.check()  # before any computation
+            mapping = read_mapping(mapping_path) if mapping_path is not None else None
             s = load_suspension(config_path)
             if identified:
                 if s.measurements is None:
@@ -177,19 +215,25 @@ def export_adams(config_path: Path, out_dir: Path, identified: bool, kc_csv: Pat
                 ident = identify_geometry(s)
                 s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
                                          s.sha256)
-            preload = None
-            if s.design.balance_bushing_preloads and s.bushings:
+            preload, springs = None, None
+            if (s.design.balance_bushing_preloads and s.bushings) or s.design.balance_spring:
                 from elastokin.mbs.design import design_state
 
-                preload = design_state(s).bushing_preload
+                state = design_state(s)
+                preload, springs = state.bushing_preload, state.spring_force_N
+            alias = database or out_dir.name.removesuffix(".cdb")
+            spec = subsystem_spec(s, mapping, alias, template_name, major_role, minor_role,
+                                  warnings)
             with output as tmp:
-                files = write_files(s, tmp, preload, range_mm, range_deg)
+                files = write_files(s, tmp, preload, range_mm, range_deg, spring_force=springs,
+                                    mapping=mapping, spec=spec, warnings=warnings)
                 if kc_csv is not None:
                     write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
                     files.append(tmp / "kc_adams.csv")
+                names = [f.relative_to(tmp).as_posix() for f in files]
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
-    log.echo()
-    click.echo(f"wrote {len(files)} files in {out_dir}/: " + ", ".join(f.name for f in files))
+    log.echo(warnings)
+    click.echo(f"wrote {len(names)} files in {out_dir}/: " + ", ".join(names))

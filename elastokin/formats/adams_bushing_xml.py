@@ -163,8 +163,9 @@ def _direction(out: XmlBushing, comp: _Node, d: str, where: str) -> None:
         if (damp.attr("type") or "linear").lower() == "linear" and lin and lin[0].attr("rate"):
             q = "rotational_damping" if rot else "damping"
             value = _number(lin[0].attr("rate"), f"{where}, line {lin[0].line}")
-            out.damping[f"{d.upper()}_DAMPING"] = (value * out.units.factor(q),
-                                                   QUANTITY_UNITS[q][1])
+            key = {"x": "FX", "y": "FY", "z": "FZ", "rx": "TX", "ry": "TY", "rz": "TZ"}[d]
+            out.damping[f"{key}_DAMPING"] = (float(f"{value * out.units.factor(q):.12g}"),
+                                             QUANTITY_UNITS[q][1])
         else:
             out.warnings.append(f"{where}, line {damp.line}: damping not linear: not read "
                                 "(elastokin is quasi-static)")

@@ -47,6 +47,7 @@ __all__ = [
     "adams_to_config",
     "apply_bushings",
     "apply_hardpoints",
+    "bushing_sources",
     "clean",
     "config_to_adams",
     "database_file",
@@ -444,6 +445,16 @@ def _assembly_files(sub: Path, mapping: AdamsMapping, side: str) -> dict[str, Pa
     return out
 
 
+def bushing_sources(subsystem: str | Path, mapping: AdamsMapping, side: str,
+                    bushing_files: Mapping[str, str | Path] | None = None) -> dict[str, Path]:
+    """The property file of each bushing to import: ``bushing_files``, else the mapping's
+    ``file``, else the PROPERTY_FILE of the subsystem's ``[BUSHING_ASSEMBLY]`` of the mapping's
+    ``usage`` on ``side``, found in the database holding the subsystem file."""
+    sub = subsystem_file(subsystem)
+    return {**_assembly_files(sub, mapping, side), **mapping.bushings,
+            **{k: Path(v) for k, v in (bushing_files or {}).items()}}
+
+
 def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str | Path,
                  bushing_files: Mapping[str, str | Path] | None = None,
                  source: str = "template config") -> tuple[dict, list[str]]:
@@ -460,9 +471,8 @@ def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str 
     points = read_hardpoints(sub, warnings)
     cfg, more = apply_hardpoints(template, points, mapping, source)
     warnings += more
-    side = mapping.side or template.get("side") or "left"
-    files = {**_assembly_files(sub, mapping, side), **mapping.bushings,
-             **{k: Path(v) for k, v in (bushing_files or {}).items()}}
+    files = bushing_sources(sub, mapping, mapping.side or template.get("side") or "left",
+                            bushing_files)
     props = {name: read_bushing(file) for name, file in files.items()}
     for p in props.values():
         warnings += p.warnings

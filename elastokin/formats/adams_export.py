@@ -1,16 +1,25 @@
-"""ADAMS/Car files out: a hardpoint table, one ``.bus`` file per bushing, the bushing preloads as
-``[BUSHING_ASSEMBLY]`` blocks to paste into a subsystem file, and the mapping file that imports
-them back (:func:`export_adams`).
+"""ADAMS/Car files out (:func:`export_adams`): an ADAMS/Car database folder holding the
+subsystem file, a bushing property file per bushing and a spring property file per spring, and
+the mapping file that imports them back.
 
-Files are written in mm, newton, degrees (their ``[UNITS]`` block says so); hardpoints and
-bushing locations/orientations in ADAMS/Car's global frame (X rearward, Y right, Z up; a
-``left/right`` row stores the left point), bushing curves and preloads in the bushing frame.
-Writers are deterministic: the same input gives the same bytes. Conventions: ``docs/adams.md``.
+Layout of ``out_dir`` (name it ``<database>.cdb``)::
+
+    subsystems.tbl/<name>.sub   [SUBSYSTEM_HEADER], [HARDPOINT], [BUSHING_ASSEMBLY]s,
+                                [NSPRING_ASSEMBLY]s (PROPERTY_FILE 'mdids://<database>/...')
+    bushings.tbl/<usage>.bus    one per bushing
+    springs.tbl/<usage>.spr     one per spring
+    mapping.yaml                elastokin <-> ADAMS names, for import-adams
+
+Files are written in mm, newton, deg, kg, sec; hardpoints in ADAMS/Car's global frame (X
+rearward, Y right, Z up), curves and preloads in the bushing frame. Writers are deterministic
+except the subsystem's TIMESTAMP (the current time, or ``SOURCE_DATE_EPOCH`` when set).
+Conventions: ``docs/adams.md``.
 """
 
 from __future__ import annotations
 
-import re
+import os
+import time
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -18,176 +27,152 @@ import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import BUSHING_CURVES, clean, config_to_adams, frame_signs
+from elastokin.formats.adams_car import clean
+from elastokin.formats.adams_mapping import AdamsMapping, config_to_adams, frame_signs
+from elastokin.formats.adams_property_files import (
+    bushing_file_text,
+    number,
+    spring_file_text,
+)
+from elastokin.formats.adams_subsystem import (
+    AssemblyRow,
+    SubsystemSpec,
+    hardpoint_rows,
+    safe_name,
+    subsystem_text,
+)
 from elastokin.formats.config_yaml import dump_config
-from elastokin.physics.laws import DirectionLaw
 from elastokin.physics.pose import euler_zxz_deg
 from elastokin.version import __version__
 
 __all__ = [
-    "bushing_assembly_text",
     "bushing_file_text",
     "export_adams",
-    "hardpoint_table_text",
+    "export_timestamp",
     "mapping_text",
+    "spring_file_text",
+    "subsystem_spec",
 ]
 
-_UNITS_BLOCK = ("[UNITS]", " LENGTH  =  'mm'", " FORCE  =  'newton'", " ANGLE  =  'degrees'",
-                " MASS  =  'kg'", " TIME  =  'second'")
+
+def export_timestamp() -> str:
+    """``YYYY/MM/DD,hh:mm:ss`` (UTC) of now, or of ``SOURCE_DATE_EPOCH`` when it is set."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
+    t = float(epoch) if epoch.isdigit() else time.time()
+    return time.strftime("%Y/%m/%d,%H:%M:%S", time.gmtime(t))
 
 
-def _num(x: float) -> str:
-    """Shortest text that reads back as the same float; no negative zero."""
-    return repr(clean(x))
+def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
+                   database: str | None = None, template: str | None = None,
+                   major_role: str | None = None, minor_role: str | None = None,
+                   warnings: list[str] | None = None) -> SubsystemSpec:
+    """The subsystem's name, template, roles and database alias: the arguments, else the
+    mapping file's ``subsystem`` section, else defaults (name: the config's name; database: the
+    subsystem's name; roles: suspension, front; template: ``_<name>.tpl`` in the database, with
+    a warning). A bare template name (``_double_wishbone``) is taken in ``acar_shared``."""
+    sub = mapping.subsystem if mapping else {}
+    name = safe_name(sub.get("name") or s.name)
+    db = safe_name(database or sub.get("database") or name)
+    tpl = template or sub.get("template")
+    if not tpl:
+        tpl = f"mdids://{db}/templates.tbl/_{name}.tpl"
+        if warnings is not None:
+            warnings.append(f"no template given (export-adams --template-name, or "
+                            f"'subsystem: template' in the mapping file): the subsystem names "
+                            f"{tpl}, which ADAMS/Car needs to open it")
+    elif "/" not in tpl and "\\" not in tpl:
+        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
+    return SubsystemSpec(name, tpl, major_role or sub.get("major_role") or "suspension",
+                         minor_role or sub.get("minor_role") or "front", db)
 
 
-def _rule(name: str) -> str:
-    return "$" + name.rjust(79, "-")
+def _usages(names: Iterable[str], given: Mapping[str, str], what: str,
+            source: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for n in names:
+        usage = safe_name(given.get(n, n))
+        if usage in out.values():
+            other = next(k for k, v in out.items() if v == usage)
+            raise ConfigError(f"{source}: {what} {other} and {n} both have the ADAMS usage "
+                              f"'{usage}'")
+        out[n] = usage
+    return out
 
 
-def _quoted(s: str, width: int = 0) -> str:
-    return f"'{s}'".ljust(width)
-
-
-def _provenance(s: Suspension) -> str:
-    return f"$ elastokin {__version__}: '{s.name}' (config sha256 {s.sha256[:12]})"
-
-
-def _safe_name(name: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
-
-
-def hardpoint_table_text(s: Suspension) -> str:
-    """A TeimOrbit hardpoint table: every config hardpoint as a ``left/right`` row, converted to
-    the ADAMS/Car frame (X rearward, Y right, Z up), mm; the left point is stored (a right
-    corner is mirrored)."""
-    width = max([len(n) for n in s.hardpoints] + [14]) + 4
-    lines = [_provenance(s),
-             "$ ADAMS/Car global frame (X rearward, Y right, Z up), mm; 'left/right' rows store",
-             f"$ the left point (Y < 0); this config is a {s.side} corner"
-             + (" (mirrored to the left)." if s.side == "right" else "."),
-             _rule("MDI_HEADER"), "[MDI_HEADER]", " FILE_TYPE  =  'sub'",
-             " FILE_VERSION  =  4.0", " FILE_FORMAT  =  'ASCII'",
-             _rule("UNITS"), *_UNITS_BLOCK, _rule("HARDPOINT"), "[HARDPOINT]",
-             "{" + "hardpoint_name".ljust(width - 1) + "symmetry      "
-             + "".join(c.rjust(22) for c in ("x_value", "y_value", "z_value")) + "}"]
-    for name, p in s.hardpoints.items():
-        q = config_to_adams(p, s.frame)
-        if s.side == "right":
-            q[1] = -q[1]
-        lines.append(" " + _quoted(name, width - 1) + _quoted("left/right", 14)
-                     + "".join(_num(v).rjust(22) for v in q))
-    return "\n".join(lines) + "\n"
-
-
-def _curve_points(law: DirectionLaw, half_range: float) -> tuple[list[float], list[float]]:
-    """Table points of a law: a linear rate as 5 points over +-half_range; a curve as given,
-    extended with its end slopes to +-half_range when the table is narrower."""
-    if law.is_linear and len(law.deflection) == 2:
-        k = law.slopes[0]
-        u = [-half_range, -half_range / 2, 0.0, half_range / 2, half_range]
-        return u, [k * x for x in u]
-    u, f = list(law.deflection), list(law.load)
-    if u[0] > -half_range:
-        u.insert(0, -half_range)
-        f.insert(0, float(law(-half_range)))
-    if u[-1] < half_range:
-        u.append(half_range)
-        f.append(float(law(half_range)))
-    return u, f
-
-
-def bushing_file_text(s: Suspension, bushing: str, range_mm: float = 10.0,
-                      range_deg: float = 10.0) -> str:
-    """A ``.bus`` bushing property file (mm, newton, degrees) with the six curves of a bushing:
-    a linear rate as a straight table over +-``range_mm`` / +-``range_deg``, a curve as given
-    (extended with its end slopes to that range when narrower). Damping: zero."""
-    b = next(x for x in s.bushings if x.name == bushing)
-    lines = [_provenance(s),
-             f"$ bushing {b.name}: {b.parts[0]} -> {b.parts[1]}; curves in the bushing frame "
-             "(z axial, x main radial),",
-             "$ mm -> N and deg -> N*mm; beyond a table elastokin extrapolates linearly with the "
-             "end slopes.",
-             _rule("MDI_HEADER"), "[MDI_HEADER]", " FILE_TYPE  =  'bus'", " FILE_VERSION  =  4.0",
-             " FILE_FORMAT  =  'ASCII'", " (COMMENTS)", " {comment_string}",
-             " '" + f"elastokin bushing {b.name} of {s.name}".replace("'", "`") + "'",
-             _rule("UNITS"), *_UNITS_BLOCK,
-             _rule("SHAPE"), "[SHAPE]",
-             "$ graphics only: nominal sleeve (elastokin has no bushing geometry)",
-             "{radius      width}", " 25.0        50.0", " 25.0        50.0",
-             _rule("DAMPING"), "[DAMPING]",
-             "$ elastokin is quasi-static: no damping"]
-    lines += [f" {k}_DAMPING  =  0.0" for k in ("FX", "FY", "FZ", "TX", "TY", "TZ")]
-    for (direction, name, columns), law in zip(BUSHING_CURVES, b.laws):
-        rng = range_mm if direction in ("x", "y", "z") else range_deg
-        u, f = _curve_points(law, rng)
-        lines += [_rule(name), f"[{name}]", "{" + columns[0].rjust(21) + columns[1].rjust(24)
-                  + "}"]
-        lines += [" " + _num(a).rjust(21) + _num(c).rjust(24) for a, c in zip(u, f)]
-    return "\n".join(lines) + "\n"
-
-
-def bushing_assembly_text(s: Suspension, preload: Mapping[str, Iterable[float]],
-                          property_files: Mapping[str, str] | None = None) -> str:
-    """``[BUSHING_ASSEMBLY]`` blocks (mm, newton, degrees) to paste into a subsystem file.
-
-    ``T_PRELOAD_*`` (N) / ``R_PRELOAD_*`` (N*mm) are the loads each bushing carries at the
-    design position, bushing frame (elastokin's +K*u convention): the force and torque on
-    ``parts[0]`` (ADAMS I marker) when ``parts[1]`` (J marker) is not deflected from it."""
-    lines = [_provenance(s),
-             "$ Bushing assemblies to paste into the subsystem file (.sub). Preloads: loads "
-             "carried at the",
-             "$ design position (the hardpoints), in the bushing frame, on the I part (first "
-             "part); with",
-             "$ them the hardpoints are the static equilibrium under the design wheel load "
-             f"({s.design.wheel_load_N:g} N).",
-             "$ Locations and orientations (body-313 Euler angles of the bushing frame) in the "
-             "ADAMS/Car",
-             "$ global frame (X rearward, Y right, Z up), mm and deg.",
-             _rule("UNITS"), *_UNITS_BLOCK]
+def _bushing_rows(s: Suspension, spec: SubsystemSpec, usages: Mapping[str, str],
+                  preload: Mapping[str, Iterable[float]]) -> list[AssemblyRow]:
     signs = np.diag(frame_signs(s.frame))
+    rows = []
     for b in s.bushings:
         if b.name not in preload:
             raise ConfigError(f"{s.source}: no preload given for bushing '{b.name}'")
         p = [clean(round(float(v), 6)) for v in preload[b.name]]
         loc = config_to_adams(b.position_mm, s.frame)
         euler = euler_zxz_deg(signs @ b.frame)
-        pf = (property_files or {}).get(b.name, f"{_safe_name(b.name)}.bus")
-        lines += [_rule("BUSHING_ASSEMBLY"), "[BUSHING_ASSEMBLY]",
-                  f"$ {b.name}: I part {b.parts[0]}, J part {b.parts[1]} ({s.side} corner)",
-                  "$   location " + " ".join(_num(round(v, 9)) for v in loc) + " mm",
-                  "$   orientation body-313 " + " ".join(_num(round(v, 9)) for v in euler)
-                  + " deg",
-                  f" USAGE  =  '{b.name}'", " SYMMETRY  =  'left/right'",
-                  f" PROPERTY_FILE  =  '{pf}'"]
-        lines += [f" T_PRELOAD_{a}  =  {_num(v)}" for a, v in zip("XYZ", p[:3])]
-        lines += [f" R_PRELOAD_{a}  =  {_num(v)}" for a, v in zip("XYZ", p[3:])]
+        comments = (f"$ elastokin bushing {b.name}: I part {b.parts[0]}, J part {b.parts[1]} "
+                    f"({s.side} corner)",
+                    "$   location " + " ".join(number(round(v, 9)) for v in loc) + " mm",
+                    "$   orientation body-313 " + " ".join(number(round(v, 9)) for v in euler)
+                    + " deg (the template's orientation is used by ADAMS/Car)")
+        values = (("INACTIVE_BEHAVIOR", "normal"),
+                  *((f"T_PRELOAD_{a}", v) for a, v in zip("XYZ", p[:3])),
+                  *((f"R_PRELOAD_{a}", v) for a, v in zip("XYZ", p[3:])),
+                  *((f"{k}_OFFSET_{a}", 0.0) for k in "TR" for a in "XYZ"))
+        rows.append(AssemblyRow(usages[b.name], spec.path("bushings.tbl",
+                                                          f"{usages[b.name]}.bus"),
+                                values, comments))
+    return rows
+
+
+def _spring_rows(s: Suspension, spec: SubsystemSpec, usages: Mapping[str, str],
+                 force: Mapping[str, float]) -> list[AssemblyRow]:
+    rows = []
     for sp in s.springs:
-        lines.append(f"$ spring {sp.name}: rate {sp.rate_N_per_mm:g} N/mm, installed length "
-                     f"{sp.installed_length_mm:.3f} mm (not exported)")
-    return "\n".join(lines) + "\n"
+        f = force.get(sp.name, sp.design_force_N())
+        comments = (f"$ elastokin spring {sp.name}: {sp.parts[0]} -> {sp.parts[1]}, rate "
+                    f"{sp.rate_N_per_mm:g} N/mm, installed length "
+                    f"{sp.installed_length_mm:.3f} mm",)
+        rows.append(AssemblyRow(usages[sp.name], spec.path("springs.tbl",
+                                                           f"{usages[sp.name]}.spr"),
+                                (("VALUE_TYPE", "preload"),
+                                 ("USER_VALUE", clean(round(float(f), 6)))), comments))
+    return rows
 
 
-def mapping_text(s: Suspension, bus_files: Mapping[str, str]) -> str:
-    """The mapping file that imports the exported hardpoint table back into ``s``'s config."""
+def mapping_text(s: Suspension, spec: SubsystemSpec, written: Mapping[str, tuple[str, str]],
+                 bushings: Mapping[str, str], springs: Mapping[str, str]) -> str:
+    """The mapping file that imports the exported database back into ``s``'s config."""
     data = {"elastokin_adams_mapping": 1, "side": s.side,
-            "hardpoints": {n: n for n in s.hardpoints}, "bushings": dict(bus_files)}
-    head = [f"elastokin {__version__}: mapping of the ADAMS/Car files exported from "
-            f"'{s.name}'", "(docs/adams.md): elastokin hardpoint: ADAMS hardpoint; elastokin "
-            "bushing: .bus file"]
+            "subsystem": {"name": spec.name, "template": spec.template,
+                          "major_role": spec.major_role, "minor_role": spec.minor_role,
+                          "database": spec.database},
+            "hardpoints": {n: (a if side in ("single", s.side) else {"adams": a, "side": side})
+                           for n, (a, side) in written.items()},
+            "bushings": {n: {"file": f"bushings.tbl/{u}.bus", "usage": u}
+                         for n, u in bushings.items()},
+            "springs": {n: {"usage": u} for n, u in springs.items()}}
+    head = [f"elastokin {__version__}: mapping of the ADAMS/Car database exported from "
+            f"'{s.name}'", "(docs/adams.md): elastokin name: ADAMS name; bushings: property "
+            "file (relative to this file) and usage"]
     return dump_config(data, "\n".join(head), flow=False)
 
 
 def export_adams(s: Suspension, out_dir: str | Path,
                  bushing_preload: Mapping[str, Iterable[float]] | None = None,
-                 range_mm: float = 10.0, range_deg: float = 10.0) -> list[Path]:
-    """Write ``hardpoints.tbl``, one ``<bushing>.bus`` per bushing, ``bushing_assembly.txt``
-    (preloads) and ``mapping.yaml`` into ``out_dir``; returns the paths written.
+                 range_mm: float = 10.0, range_deg: float = 10.0, *,
+                 spring_force: Mapping[str, float] | None = None,
+                 mapping: AdamsMapping | None = None, spec: SubsystemSpec | None = None,
+                 timestamp: str | None = None, warnings: list[str] | None = None
+                 ) -> list[Path]:
+    """Write ``out_dir`` as an ADAMS/Car database (module docstring); returns the paths written.
 
     ``bushing_preload``: loads at the design position per bushing (N, N*mm, bushing frame),
     e.g. :attr:`elastokin.config.variants.DesignState.bushing_preload` (from
     :func:`elastokin.mbs.design.design_state`); needed when the config balances them
-    (``design.balance_bushing_preloads``), else taken from its preload or initial deflection."""
+    (``design.balance_bushing_preloads``), else taken from its preload or initial deflection.
+    ``spring_force``: compression force per spring at its installed length (default: the
+    config's). ``mapping``: elastokin -> ADAMS names and the template; ``spec`` (default:
+    :func:`subsystem_spec` with ``out_dir``'s name, less ``.cdb``, as the database alias)."""
     if not (range_mm > 0 and range_deg > 0):
         raise ConfigError(f"table range must be positive, got {range_mm} mm / {range_deg} deg")
     if bushing_preload is None:
@@ -196,22 +181,29 @@ def export_adams(s: Suspension, out_dir: str | Path,
                               "preloads must be solved first (elastokin.mbs.design.design_state)")
         bushing_preload = {b.name: [law(u) for law, u in zip(b.laws, b.initial_deflection)]
                            for b in s.bushings}
+    spec = spec or subsystem_spec(s, mapping, Path(out_dir).name.removesuffix(".cdb"),
+                                  warnings=warnings)
+    rows, written = hardpoint_rows(s, mapping)
+    source = mapping.path if mapping else s.source
+    bushings = _usages([b.name for b in s.bushings], mapping.bushing_usage if mapping else {},
+                       "bushings", source)
+    springs = _usages([sp.name for sp in s.springs], mapping.spring_usage if mapping else {},
+                      "springs", source)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-
-    def write(name: str, text: str) -> None:
-        (out / name).write_text(text, encoding="utf-8", newline="\n")
-        written.append(out / name)
-
-    write("hardpoints.tbl", hardpoint_table_text(s))
-    bus_files = {}
+    files = {f"subsystems.tbl/{spec.name}.sub": subsystem_text(
+        s, spec, rows, _bushing_rows(s, spec, bushings, bushing_preload),
+        _spring_rows(s, spec, springs, spring_force or {}), timestamp or export_timestamp())}
     for b in s.bushings:
-        bus_files[b.name] = f"{_safe_name(b.name)}.bus"
-        if list(bus_files.values()).count(bus_files[b.name]) > 1:
-            raise ConfigError(f"{s.source}: bushing names give the same file name "
-                              f"{bus_files[b.name]}")
-        write(bus_files[b.name], bushing_file_text(s, b.name, range_mm, range_deg))
-    write("bushing_assembly.txt", bushing_assembly_text(s, bushing_preload, bus_files))
-    write("mapping.yaml", mapping_text(s, bus_files))
-    return written
+        files[f"bushings.tbl/{bushings[b.name]}.bus"] = bushing_file_text(s, b.name, range_mm,
+                                                                          range_deg)
+    for sp in s.springs:
+        files[f"springs.tbl/{springs[sp.name]}.spr"] = spring_file_text(
+            s, sp.name, (spring_force or {}).get(sp.name))
+    files["mapping.yaml"] = mapping_text(s, spec, written, bushings, springs)
+    written_paths = []
+    for rel, text in files.items():
+        path = out / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8", newline="\n")
+        written_paths.append(path)
+    return written_paths

@@ -13,6 +13,8 @@ Conventions: ``docs/adams.md``.
 
 from __future__ import annotations
 
+import math
+
 from elastokin.config.suspension import Suspension
 from elastokin.formats.adams_car import BUSHING_CURVES, clean
 from elastokin.formats.adams_curves import akima_deviation
@@ -100,8 +102,9 @@ def bushing_file_text(s: Suspension, bushing: str, range_mm: float = 10.0,
         curves += [rule(name), f"[{name}]", *_table(columns, u, f)]
         dev, at = akima_deviation(u, f)
         if dev > 1e-9 * max(abs(v) for v in f):
+            unit = ("N", "mm") if direction in ("x", "y", "z") else ("N*mm", "deg")
             notes.append(f"$ {name}: between its points ADAMS' Akima spline differs from "
-                         f"elastokin's law by up to {dev:.4g} (at {at:.4g})")
+                         f"elastokin's law by up to {dev:.4g} {unit[0]} (at {at:.4g} {unit[1]})")
     lines = [provenance(s),
              f"$ bushing {b.name}: {b.parts[0]} (I) -> {b.parts[1]} (J); curves in the bushing "
              "frame (z axial, x main radial),",
@@ -118,17 +121,25 @@ def bushing_file_text(s: Suspension, bushing: str, range_mm: float = 10.0,
     return "\n".join(lines + curves) + "\n"
 
 
-def spring_file_text(s: Suspension, spring: str, half_range: float = 100.0) -> str:
-    """A ``.spr`` spring property file (mm, newton): ``FREE_LENGTH`` (from the config's free
-    length, else installed length + design force / rate) and the linear rate as a straight
-    ``{disp force}`` table over +-``half_range`` mm of compression from free length."""
+def spring_file_text(s: Suspension, spring: str, force_N: float | None = None,
+                     half_range: float = 100.0) -> str:
+    """A ``.spr`` spring property file (mm, newton): ``FREE_LENGTH`` (installed length +
+    design force / rate; the design force ``force_N``, else the config's) and the linear rate as
+    a straight ``{disp force}`` table (disp: compression from free length) from -``half_range``
+    to ``half_range`` past the design compression."""
     sp = next(x for x in s.springs if x.name == spring)
-    free = (sp.free_length_mm if sp.free_length_mm is not None
-            else sp.installed_length_mm + sp.design_force_N() / sp.rate_N_per_mm)
-    u = [-half_range, -half_range / 2, 0.0, half_range / 2, half_range]
+    force = sp.design_force_N() if force_N is None else float(force_N)
+    compression = force / sp.rate_N_per_mm
+    free = sp.installed_length_mm + compression
+    step = half_range / 2
+    lo = math.floor(min(-half_range, compression - half_range) / step)
+    hi = math.ceil(max(half_range, compression + half_range) / step)
+    u = [clean(k * step) for k in range(lo, hi + 1)]
     lines = [provenance(s),
              f"$ spring {sp.name}: {sp.parts[0]} -> {sp.parts[1]}; rate {sp.rate_N_per_mm:g} "
-             "N/mm; disp: compression from free length (mm), force: compression (N).",
+             f"N/mm; design force {force:.6g} N at installed length "
+             f"{sp.installed_length_mm:.6g} mm;",
+             "$ disp: compression from free length (mm), force: compression (N).",
              *header_lines("spr", 4.0, [f"elastokin spring {sp.name} of {s.name}"]),
              rule("UNITS"), *UNITS_LINES, rule("SPRING_DATA"), "[SPRING_DATA]",
              key_line("FREE_LENGTH", clean(round(free, 9)), 11),

@@ -269,10 +269,10 @@ class _Parser:
         if not toks or (len(toks) > 1 and not _is_free_text(toks[1])):
             raise self.error(n, f"{key} = ...: expected one value (a number or a 'quoted "
                              f"string'), got {_show(rest)}")
+        key = key.upper()
         if len(toks) > 1:
             self.warn(n, f"{key}: free text after the value ignored: "
                       f"{_show(' '.join(t for t, _ in toks[1:]))}")
-        key = key.upper()
         old = self.section.entries.get(key)
         if old is not None:
             self.warn(n, f"{key} is given again (first at line {old.line}): the last value is "

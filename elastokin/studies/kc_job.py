@@ -86,6 +86,7 @@ class KCRun:
     stiffness: StiffnessFit | None = None  # bushing-stiffness identification, with test data
     # on comparing the models with the test, and the Python warnings of the run (add_warnings)
     warnings: list[str] = field(default_factory=list)
+    reused: list[str] = field(default_factory=list)  # results taken from the cache
 
     def add_warnings(self, messages: list[str]) -> None:
         """Add warnings issued while the run was made (e.g. by ``elastokin kc``: the Python
