@@ -38,6 +38,7 @@ class SkeletonElement:
     #: a distance kept by an eliminated two-ball-joint part: each end's point as (the part
     #: that carries it, design position), when it is not ``(parts[k], points[k])``
     anchors: tuple[tuple[str, np.ndarray], tuple[str, np.ndarray]] | None = None
+    spring: bool = False  # a coil spring's length, locked: the travel is held
 
 
 @dataclass(frozen=True)
@@ -198,19 +199,23 @@ class _Steps:
         return row
 
 
-def _constraint_rows(steps: _Steps) -> tuple[list[np.ndarray], list[np.ndarray]]:
+def _constraint_rows(steps: _Steps) -> tuple[list[np.ndarray], list[np.ndarray], list[bool]]:
     """The skeleton's velocity constraints at every step, (S, N) rows: those of the
-    constraints, and the rates of the released steering input."""
+    constraints, the rates of the released steering input, and which constraint rows lock a
+    spring's length."""
     rows: list[np.ndarray] = []  # the constraints
     steer: list[np.ndarray] = []  # the released steering input's rates
+    springs: list[bool] = []
     for e in steps.skeleton.elements:
         target = steer if e.released else rows
+        before = len(rows)
         if e.kind == "distance":  # d|q1 - q0|/dt = 0, each end moving with its part
             ends = e.anchors or ((e.parts[0], e.points[0]), (e.parts[1], e.points[1]))
             q = (steps.moved(*ends[0]), steps.moved(*ends[1]))
             d = q[1] - q[0]
             target.append(steps.translation_row(
                 e.parts, q, d / np.linalg.norm(d, axis=-1, keepdims=True)))
+            springs += [e.spring] * (len(rows) - before)
             continue
         # joint: d/dt [F0^T (q1 - q0)] = F0^T (v1(q1) - v0(q1)) in the constrained directions
         # (the joint's offset, e.g. a strut's slide or a bushing's deflection, is held in the
@@ -227,7 +232,22 @@ def _constraint_rows(steps: _Steps) -> tuple[list[np.ndarray], list[np.ndarray]]
                 if e.flags[3 + i]:
                     target.append(steps.rotation_row(
                         e.parts, np.einsum("sij,sj->si", F0, dual[:, i, :])))
-    return rows, steer
+        springs += [False] * (len(rows) - before)
+    return rows, steer, springs
+
+
+def _idle_locks(A: np.ndarray, springs: np.ndarray, k: int) -> list[tuple[np.ndarray,
+                                                                          np.ndarray]]:
+    """Per group of steps, rows that lock the idle motions: those the joints allow with the
+    wheel part (columns ``k:k+6``) held and the springs unlocked (a strut rod turning about
+    its own axis). With spring seats off the strut axis such a turn changes the spring's
+    length, so a locked spring no longer locks the travel alone; the rubber of the top mount,
+    which the ideal joints leave out, holds it in reality."""
+    S, _, N = A.shape
+    hold = np.zeros((S, 6, N))
+    hold[:, :, k:k + 6] = np.eye(6)
+    free = np.concatenate([A[:, ~springs, :], hold], axis=1)
+    return [(idx, np.swapaxes(basis, 1, 2)) for idx, basis in _null_spaces(free)]
 
 
 def _wheel_twists(A: np.ndarray, E: np.ndarray, k: int, n: int) -> tuple[np.ndarray, str | None]:
@@ -301,10 +321,18 @@ def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
     col = {p: 6 * i for i, p in enumerate(parts)}
     steps = _Steps(skeleton, rotation, position, reference, n, col, 6 * len(parts),
                    np.broadcast_to(np.eye(3), (n, 3, 3)))
-    rows, steer = _constraint_rows(steps)
+    rows, steer, springs = _constraint_rows(steps)
     A = np.stack(rows, axis=1)  # (S, m, N)
     E = np.stack(steer, axis=1)  # (S, r, N)
-    twist, bad = _wheel_twists(A, E, col[skeleton.wheel_part], n)
+    k = col[skeleton.wheel_part]
+    twist, bad = _wheel_twists(A, E, k, n)
+    if bad is not None and "more than one" in bad and any(springs):
+        # the travel not locked by the springs alone: lock the idle motions too, and retry
+        twist, bad = np.full((n, 6), np.nan), None
+        for idx, locks in _idle_locks(A, np.array(springs), k):
+            t_idx, b_idx = _wheel_twists(np.concatenate([A[idx], locks], axis=1), E[idx], k,
+                                         idx.size)
+            twist[idx], bad = t_idx, bad or b_idx
     return _screw_axes(twist, bad, position, skeleton.wheel_part, wheel_centre)
 
 

@@ -74,7 +74,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
         elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
                                  released=lk.name in released_links))
     for sp in s.springs:  # locked: the travel is held
-        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm))
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm, spring=True))
     elements, eliminated = eliminate_links(elements, s.ground, wheel)
     return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
                             tuple(eliminated))
