@@ -78,7 +78,7 @@ def end_to_end(config: str) -> dict:
         charts = Path(tmp) / "charts"
         charts.mkdir()
         t0 = time.perf_counter()
-        kc_charts(sweeps, charts, prov)
+        kc_charts(sweeps, charts, prov, summary["errors"])
         figures["charts_s"] = time.perf_counter() - t0
         figures["fit_model_runs"] = json.loads(
             (out / "stiffness_identification.json").read_text())["evaluations"]

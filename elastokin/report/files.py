@@ -182,7 +182,7 @@ def write_kc_results(run: KCRun, folder: Path) -> dict:
         files += ["identification.json", "identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
-    charts = kc_charts(sweeps, folder, prov)
+    charts = kc_charts(sweeps, folder, prov, run.errors)
     files += [p.name for p in charts] + ["report.html"]
     summary = summary_dict(run, files)
     write_summary(folder / "summary.json", summary)

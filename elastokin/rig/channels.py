@@ -108,6 +108,21 @@ CHANNEL_LIST = (
             "applies to the wheel, toe-in sense +", test_sign="toe_in_torque",
             adams="aligning_torque"),
 )
+#: units charts and the report show instead of the interface unit: unit -> (shown unit, factor
+#: from the interface unit); torques in N*m, as the summary's kN*m gradients
+DISPLAY_UNITS = {"N*mm": ("N*m", 1.0e-3)}
+
+
+def display_unit(unit: str) -> tuple[str, float]:
+    """The unit a chart or the report shows for ``unit`` and the factor that converts to it."""
+    return DISPLAY_UNITS.get(unit, (unit, 1.0))
+
+
+def display_label(label: str, unit: str) -> str:
+    """An axis label (``name [unit] (sign)``) in the unit a chart shows (:data:`DISPLAY_UNITS`)."""
+    return label.replace(f"[{unit}]", f"[{display_unit(unit)[0]}]")
+
+
 #: channels by kc.csv name
 CHANNELS: dict[str, Channel] = {c.name: c for c in CHANNEL_LIST}
 #: the channels the stiffness fit compares with the test, in residual order

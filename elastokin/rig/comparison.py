@@ -94,9 +94,10 @@ def _segments(sweep: Sweep, x: str, y: str):
         yield name, sweep.columns[x][keep], sweep.columns[y][keep]
 
 
-def _static_value(sweep: Sweep, x: str, y: str) -> float:
+def static_value(sweep: Sweep, x: str, y: str) -> float:
     """y at x = 0 on the first branch that passes 0, or starts one step from it (a rig
-    sweep's first step is already loaded); else the first row."""
+    sweep's first step is already loaded); else the first row. The errors and the charts of a
+    force case measure every curve from this value."""
     xs, ys = sweep.columns[x], sweep.columns[y]
     br = sweep.columns["branch"]
     for name in dict.fromkeys(br):
@@ -111,18 +112,18 @@ def _static_value(sweep: Sweep, x: str, y: str) -> float:
     return float(ys[0])
 
 
-def curve_residuals(model: Sweep, test: Sweep, x: str, y: str,
-                    clamp: bool = False) -> np.ndarray | None:
-    """(model - test) changes from the static state at the test points, branch by branch
-    (see the module docstring), in test-point order; None when a column is missing.
+def residual_points(model: Sweep, test: Sweep, x: str, y: str, clamp: bool = False
+                    ) -> list[tuple[str, np.ndarray, np.ndarray]] | None:
+    """(branch, test input, model - test change from the static state) per branch of the
+    test, in test-point order (see the module docstring); None when a column is missing.
     Test points outside the model's input range are left out, or with ``clamp`` compared
-    with the model's end value (a residual vector of fixed length, for fitting)."""
+    with the model's end value."""
     for sw in (model, test):
         if x not in sw.columns or y not in sw.columns:
             return None
-    y0m, y0t = _static_value(model, x, y), _static_value(test, x, y)
+    y0m, y0t = static_value(model, x, y), static_value(test, x, y)
     model_branches = {name: (xb, yb) for name, xb, yb in _segments(model, x, y)}
-    residuals = []
+    out = []
     for name, xt, yt in _segments(test, x, y):
         if name not in model_branches:
             continue
@@ -130,8 +131,19 @@ def curve_residuals(model: Sweep, test: Sweep, x: str, y: str,
         order = np.argsort(xm)
         xm, ym = xm[order], ym[order]
         inside = np.ones(xt.size, bool) if clamp else (xt >= xm[0]) & (xt <= xm[-1])
-        residuals.append((np.interp(xt[inside], xm, ym) - y0m) - (yt[inside] - y0t))
-    return np.concatenate(residuals) if residuals else np.empty(0)
+        out.append((name, xt[inside],
+                    (np.interp(xt[inside], xm, ym) - y0m) - (yt[inside] - y0t)))
+    return out
+
+
+def curve_residuals(model: Sweep, test: Sweep, x: str, y: str,
+                    clamp: bool = False) -> np.ndarray | None:
+    """(model - test) changes from the static state at the test points, branch by branch
+    (:func:`residual_points`), in test-point order; None when a column is missing."""
+    points = residual_points(model, test, x, y, clamp)
+    if points is None:
+        return None
+    return np.concatenate([r for _, _, r in points]) if points else np.empty(0)
 
 
 def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
