@@ -429,10 +429,12 @@ class StiffnessIdentificationSpec(StrictModel):
                                                 "translation_cubic"]
     # residual weights: "range": each test curve divided by its range (every chart counts
     # alike), "uncertainty": by the rig's uncertainty, "residual": by the curve's own residual
-    # RMS at the previous pass (iteratively reweighted, starting from "range"; at most
-    # ``reweighting_passes`` fits); never finer than the uncertainty
+    # RMS (maximum likelihood with an unknown error level per curve, starting from "range");
+    # never finer than the uncertainty
     weighting: Literal["range", "uncertainty", "residual"] = "range"
-    reweighting_passes: int = Field(default=10, ge=2, le=50)
+    # no longer used (the curve scales are estimated in closed form at every iterate of one
+    # maximum-likelihood pass); accepted so that older configs load, with a warning
+    reweighting_passes: int | None = Field(default=None, ge=2, le=50)
     residual_scale_deg: float = Field(default=0.01, gt=0)
     residual_scale_mm: float = Field(default=0.1, gt=0)
     # determined: 95 % confidence half-width of the stiffness effect <= this fraction

@@ -2,7 +2,9 @@
 fitted bushing every direction's law becomes ``F(u) = scale * f(u) * (1 + cubic * u^2)``
 (translations and rotations share a scale and a cubic), fitted by least squares to the test
 curves (changes from the static state, weighted per curve), with 95 % intervals and
-identifiability. The method, the weighting and the statistics are in docs/stiffness.md.
+identifiability. The Jacobian is exact: every model run also gives the derivatives of every
+channel at every step (:mod:`elastokin.mbs.sensitivity`). The method, the weighting and the
+statistics are in docs/stiffness.md.
 
 Units: deflections mm and deg, loads N and N*mm; scales dimensionless, cubics 1/mm^2, 1/deg^2.
 """
@@ -10,8 +12,7 @@ Units: deflections mm and deg, loads N and N*mm; scales dimensionless, cubics 1/
 from __future__ import annotations
 
 import dataclasses
-import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,8 +22,8 @@ from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, with_bushing_laws
 from elastokin.errors import ConfigError, ElastokinError, SolverError
+from elastokin.identification.likelihood import Curves, maximum_likelihood_fit
 from elastokin.identification.stiffness_results import (
-    REWEIGHTING_TOLERANCE,
     StiffnessFit,
     fit_warnings,
     hidden_comparison,
@@ -30,11 +31,13 @@ from elastokin.identification.stiffness_results import (
     largest_deflections,
     parameter_results,
 )
+from elastokin.identification.stiffness_runs import FitRuns, fit_workers
 from elastokin.mbs.model import ModelOptions, SuspensionModel
+from elastokin.mbs.sensitivity import LawVariation
 from elastokin.physics.laws import ProgressiveLaw
 from elastokin.rig.channels import CHANNELS, FITTED_CHANNELS, LOAD_CASES
 from elastokin.rig.comparison import curve_residuals, model_errors, rig_for_test
-from elastokin.rig.load_cases import run_load_cases
+from elastokin.rig.load_cases import drives, run_drive
 from elastokin.rig.sweeps import Sweep
 
 #: parameter -> (first direction, kind, unit); translations are directions 0-2, rotations 3-5
@@ -47,7 +50,9 @@ PARAMETERS = {
 #: bounds of the optimisation variables: ln(scale) and stiffening at 1 mm / 1 deg
 _LOG_SCALE_BOUNDS = (np.log(0.05), np.log(20.0))
 _STIFFENING_BOUNDS = (0.0, 100.0)
-_DIFF_STEP = 1e-3
+#: step of the residuals' forward differences in each optimisation variable at fixed
+#: coordinates (the sensitivities' dR/dp; no re-solve, so far below the solver's tolerance)
+PARAMETER_STEP = 1e-7
 
 
 @dataclass(frozen=True)
@@ -108,13 +113,6 @@ def with_stiffness(suspension: Suspension, values: dict[str, dict[str, float]]) 
                                           for b in suspension.bushings if b.name in values})
 
 
-def stiffness_model(suspension: Suspension, design: DesignState,
-                    part_poses: bool = True) -> SuspensionModel:
-    """The compliant model of ``suspension`` (fitted laws) carrying the loads of ``design``
-    (``part_poses``: see :class:`~elastokin.mbs.model.ModelOptions`)."""
-    return SuspensionModel(suspension, ModelOptions(part_poses=part_poses), design)
-
-
 def parameters(suspension: Suspension, spec: StiffnessIdentificationSpec,
                key: str = "kc_test.stiffness_identification") -> list[Parameter]:
     """The fitted parameters of a config's spec (bushing order of the config)."""
@@ -130,7 +128,8 @@ def parameters(suspension: Suspension, spec: StiffnessIdentificationSpec,
     return [Parameter(b, p) for b in names if b in chosen for p in spec.parameters]
 
 
-def _values(params: list[Parameter], x: np.ndarray) -> dict[str, dict[str, float]]:
+def values_of(params: list[Parameter], x: np.ndarray) -> dict[str, dict[str, float]]:
+    """bushing -> parameter name -> value (physical units) of the optimisation variables."""
     out: dict[str, dict[str, float]] = {}
     for p, xi in zip(params, x):
         out.setdefault(p.bushing, {})[p.name] = p.from_x(xi)
@@ -140,14 +139,18 @@ def _values(params: list[Parameter], x: np.ndarray) -> dict[str, dict[str, float
 class Residuals:
     """Weighted residuals of a stiffness variant of ``suspension`` against the test sweeps.
 
-    ``design`` holds the preloads the variants keep (those of the unfitted model).
+    ``design`` holds the preloads the variants keep (those of the unfitted model). The
+    variants are one model whose fitted bushings are parametric (built once per process,
+    :meth:`model`), so a new parameter value changes named variables, not the model.
     """
 
     def __init__(self, suspension: Suspension, design: DesignState, test: list[Sweep],
-                 spec: StiffnessIdentificationSpec):
+                 spec: StiffnessIdentificationSpec, fitted: Sequence[str] = ()):
         self.suspension = suspension
         self.design = design
         self.test = test
+        self.fitted = tuple(fitted) or tuple(b.name for b in suspension.bushings)
+        self.base_laws = {b.name: b.laws for b in suspension.bushings}
         floor = self.floor = {"deg": spec.residual_scale_deg, "mm": spec.residual_scale_mm}
         # each (load case, channel) curve divided by the range of its test curve, never
         # finer than the rig's uncertainty: every chart counts alike
@@ -158,16 +161,50 @@ class Residuals:
                 span = (float(np.nanmax(y) - np.nanmin(y))
                         if spec.weighting in ("range", "residual") else 0.0)
                 self.scale[(sw.load_case, c)] = max(span, floor[CHANNELS[c].unit])
+        self.drives = drives(suspension, suspension.rig, suspension.kinematic)
         self.evaluations = 0
+        self._model: SuspensionModel | None = None
+
+    def __getstate__(self) -> dict:  # worker processes build their own model
+        return {**self.__dict__, "_model": None}
+
+    def laws(self, values: dict[str, dict[str, float]]) -> dict[str, tuple]:
+        """The laws of every fitted bushing for ``values`` (bushing -> parameter -> value)."""
+        return {b: bushing_laws(self.base_laws[b], values.get(b, {})) for b in self.fitted}
 
     def model(self, values: dict[str, dict[str, float]]) -> SuspensionModel:
-        # the residuals use no steering-axis columns: no part poses recorded (faster)
-        return stiffness_model(with_stiffness(self.suspension, values), self.design,
-                               part_poses=False)
+        """The model with the laws of ``values`` (no part poses recorded: the residuals use
+        no steering-axis columns)."""
+        if self._model is None:
+            self._model = SuspensionModel(self.suspension, ModelOptions(
+                part_poses=False, parametric_bushings=self.fitted), self.design)
+        self._model.set_bushing_laws(self.laws(values))
+        return self._model
 
-    def sweeps(self, values: dict[str, dict[str, float]]) -> list[Sweep]:
+    def variations(self, params: list[Parameter], x: np.ndarray) -> list[LawVariation]:
+        """Each parameter as a change of its bushing's laws at ``x`` (a forward step, backward
+        at an upper bound), for the sensitivities."""
+        out = []
+        for j, p in enumerate(params):
+            h = PARAMETER_STEP if x[j] + PARAMETER_STEP <= p.bounds[1] else -PARAMETER_STEP
+            moved = self.laws(values_of(params, x + h * np.eye(x.size)[j]))[p.bushing]
+            out.append(LawVariation({p.bushing: moved}, h))
+        return out
+
+    def point(self, params: list[Parameter], x: np.ndarray
+              ) -> tuple[dict[str, dict[str, float]], list[LawVariation]]:
+        """The parameter values at ``x`` and the variations of the sensitivities there."""
+        return values_of(params, x), self.variations(params, x)
+
+    def sweeps(self, values: dict[str, dict[str, float]],
+               variations: Sequence[LawVariation] | None = None,
+               indices: Sequence[int] | None = None) -> list[Sweep]:
+        """The test's load cases (``indices`` of :attr:`drives`: only those) on the model
+        with ``values``; with ``variations`` the sweeps carry tangents."""
         self.evaluations += 1
-        return run_load_cases(self.model(values), "fit")
+        model = self.model(values)
+        chosen = range(len(self.drives)) if indices is None else indices
+        return [run_drive(model, "fit", self.drives[i], variations) for i in chosen]
 
     def channels(self, test: Sweep) -> list[str]:
         x = LOAD_CASES[test.load_case].input
@@ -183,29 +220,49 @@ class Residuals:
                 if r is not None:
                     yield t.load_case, c, r
 
-    def vector(self, sweeps: list[Sweep]) -> np.ndarray:
-        """All residuals, divided by their curve's scale (the fit's objective)."""
+    def differences(self, sweeps: list[Sweep]) -> np.ndarray:
+        """All residuals (model - test, mm or deg), each curve less its mean, in vector order
+        (recorded in :attr:`keys` and :attr:`blocks`)."""
         parts = []
         self.blocks: list[int] = []  # residuals per curve, in vector order
         self.keys: list[tuple[str, str]] = []  # (load case, channel) per curve, same order
         for case, c, r in self._curves(sweeps, clamp=True):
             # a free offset per curve (the mean) instead of the test's static value: one
             # noisy test point must not shift a whole curve
-            parts.append((r - r.mean()) / self.scale[(case, c)])
+            parts.append(r - r.mean())
             self.blocks.append(r.size)
             self.keys.append((case, c))
         return np.concatenate(parts)
 
-    def reweighted(self, vector: np.ndarray) -> dict[tuple[str, str], float]:
-        """Each curve's scale for the next pass of ``weighting: residual``: the RMS of its
-        residuals in ``vector`` (made by :meth:`vector` with the current scales), never
-        finer than the rig's uncertainty."""
-        out, start = {}, 0
-        for key, n in zip(self.keys, self.blocks):
-            rms = float(np.sqrt(np.mean(vector[start:start + n] ** 2))) * self.scale[key]
-            out[key] = max(rms, self.floor[CHANNELS[key[1]].unit])
-            start += n
-        return out
+    def vector(self, sweeps: list[Sweep]) -> np.ndarray:
+        """All residuals, divided by their curve's scale (the fit's objective)."""
+        r = self.differences(sweeps)
+        return r / self.scale_vector()
+
+    def jacobian(self, sweeps: list[Sweep]) -> np.ndarray:
+        """d :meth:`differences` / d parameters from the sweeps' tangents: central
+        differences of the residuals along each parameter's tangent of every channel, with a
+        step that moves no channel by more than 1e-6 (mm or deg). The residuals are piecewise
+        linear in the channels (interpolation), so this is exact to rounding."""
+        n = next(iter(sweeps[0].tangents.values())).shape[1]
+        columns = []
+        for j in range(n):
+            size = max(float(np.max(np.abs(t[:, j]))) for sw in sweeps
+                       for t in sw.tangents.values())
+            h = 1e-6 / max(size, 1e-300)
+            plus, minus = (self.differences([_moved(sw, j, sign * h) for sw in sweeps])
+                           for sign in (1.0, -1.0))
+            columns.append((plus - minus) / (2.0 * h))
+        return np.column_stack(columns)
+
+    def scale_vector(self) -> np.ndarray:
+        """Each residual's curve scale (the last :meth:`vector`'s order)."""
+        return np.repeat([self.scale[k] for k in self.keys], self.blocks)
+
+    def curves(self) -> Curves:
+        """The curves of the last :meth:`vector` with their floors (mm or deg)."""
+        return Curves(np.array(self.blocks, int),
+                      np.array([self.floor[CHANNELS[c].unit] for _, c in self.keys]))
 
     def rms(self, sweeps: list[Sweep]) -> dict[str, dict[str, float]]:
         """RMS of the unweighted residuals per load case and channel (deg or mm)."""
@@ -216,123 +273,94 @@ class Residuals:
         return out
 
 
-_WORKER_RESIDUALS: Residuals | None = None  # a worker process' copy (see _Runs)
+def _moved(sweep: Sweep, j: int, h: float) -> Sweep:
+    cols = {k: (v + h * sweep.tangents[k][:, j] if k in sweep.tangents else v)
+            for k, v in sweep.columns.items()}
+    return Sweep(sweep.model, sweep.load_case, cols)
 
 
-def _start_worker(residuals: Residuals) -> None:
-    global _WORKER_RESIDUALS
-    _WORKER_RESIDUALS = residuals
+@dataclass
+class FitOutcome:
+    """Where the fit ended: the parameters ``x`` (optimisation variables), the weighted
+    residuals and Jacobian there, the sweeps, the history of the curve scales, the passes
+    made, the optimizer's status message and warnings (a fit that stopped early keeps its
+    last good point)."""
+
+    x: np.ndarray
+    fun: np.ndarray
+    jac: np.ndarray
+    sweeps: list[Sweep]
+    reweighting: list[dict]
+    passes: int
+    status: str
+    warnings: list[str]
 
 
-def _worker_vector(values: dict[str, dict[str, float]]) -> np.ndarray:
-    return _WORKER_RESIDUALS.vector(_WORKER_RESIDUALS.sweeps(values))
-
-
-class _Runs:
-    """The fit's model runs: one at a time in this process, and the Jacobian's columns (each
-    an independent model run) over ``workers`` spawned processes holding a copy of the
-    residuals. Each run is deterministic, so the fit is the same for any number of workers."""
-
-    def __init__(self, res: Residuals, params: list[Parameter], workers: int,
-                 progress: Callable[[str], None]):
-        self.res, self.params, self.progress = res, params, progress
-        self.pool = None
-        if workers > 1:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
-
-            # fork where it is safe (Linux): no re-import of the caller's main module (a
-            # script without a main guard) and no import cost; elsewhere spawn
-            method = "fork" if sys.platform.startswith("linux") else "spawn"
-            self.pool = ProcessPoolExecutor(workers, multiprocessing.get_context(method),
-                                            initializer=_start_worker, initargs=(res,))
-        self.last: tuple[np.ndarray, np.ndarray] | None = None
-
-    def close(self) -> None:
-        if self.pool is not None:
-            self.pool.shutdown(cancel_futures=True)
-
-    def _failed(self, x: np.ndarray, exc: SolverError) -> SolverError:
-        vals = ", ".join(f"{p.label}={p.from_x(v):.4g}" for p, v in zip(self.params, x))
-        return SolverError(f"stiffness identification: the model does not solve at {vals}: "
-                           f"{exc}")
-
-    def fun(self, x: np.ndarray) -> np.ndarray:
-        if self.last is not None and np.array_equal(self.last[0], x):
-            return self.last[1]  # least_squares asks for the Jacobian where it just evaluated
-        self.progress(f"stiffness fit: model run {self.res.evaluations + 1}")
-        try:
-            r = self.res.vector(self.res.sweeps(_values(self.params, x)))
-        except SolverError as exc:
-            raise self._failed(x, exc) from None
-        self.last = (x.copy(), r)
-        return r
-
-    def many(self, xs: list[np.ndarray]) -> list[np.ndarray]:
-        if self.pool is None:
-            return [self.fun(x) for x in xs]
-        futures = [self.pool.submit(_worker_vector, _values(self.params, x)) for x in xs]
-        out = []
-        for x, fut in zip(xs, futures):
-            try:
-                out.append(fut.result())
-            except SolverError as exc:
-                raise self._failed(x, exc) from None
-            self.res.evaluations += 1
-            self.progress(f"stiffness fit: model run {self.res.evaluations}")
-        return out
-
-
-def fit_workers(n_parameters: int) -> int:
-    """Default worker processes of the fit: one per Jacobian column, at most one per core."""
-    import os
-
-    return max(1, min(n_parameters, len(os.sched_getaffinity(0))
-                      if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
+def typical_sizes(params: list[Parameter], reach: dict) -> np.ndarray:
+    """The typical size of each optimisation variable (its trust region's unit): a scale
+    moves by about e^0.5; a cubic is measured by the stiffening it gives at the largest
+    deflection ``reach`` its bushing reaches (1 / u_max^2 doubles the stiffness there)."""
+    return np.array([0.5 if p.kind == "scale" else
+                     1.0 / max(reach.get((p.bushing, p.directions[0]), 1.0), 1e-3) ** 2
+                     for p in params])
 
 
 def _fit(res: Residuals, params: list[Parameter], spec: StiffnessIdentificationSpec,
-         workers: int, progress: Callable[[str], None], tolerances: dict):
-    """The least-squares fit, repeated with each curve's scale re-estimated for ``weighting:
-    residual`` until no scale changes by more than 5 %. Returns (solution, the reweighting
-    history, the passes allowed)."""
+         runs: FitRuns, reach: dict, tolerances: dict) -> FitOutcome:
+    """The fit with the exact Jacobian from the nominal laws: for ``weighting: residual``
+    maximum likelihood with every curve's scale updated in closed form at each iterate
+    (:mod:`elastokin.identification.likelihood`), otherwise least squares with the spec's
+    fixed weights."""
     lo = np.array([p.bounds[0] for p in params])
     hi = np.array([p.bounds[1] for p in params])
-    runs = _Runs(res, params, workers, progress)
-
-    def jac(x):
-        # forward differences with an absolute step in the optimisation variables (scipy's
-        # relative step vanishes at 0 and drowns in the static solver's tolerance)
-        f0 = runs.fun(x)
-        steps = [_DIFF_STEP if x[j] + _DIFF_STEP <= hi[j] else -_DIFF_STEP
-                 for j in range(x.size)]
-        shifted = [x + h * np.eye(x.size)[j] for j, h in enumerate(steps)]
-        return np.column_stack([(f - f0) / h for f, h in zip(runs.many(shifted), steps)])
-
     x = np.array([p.to_x(p.nominal) for p in params])
-    passes = spec.reweighting_passes if spec.weighting == "residual" else 1
-    reweighting, sol = [], None
-    for k in range(passes):
-        if k:  # weighting "residual": each curve's scale from the last pass' residuals
-            scales = res.reweighted(sol.fun)
-            change = max(abs(scales[key] / res.scale[key] - 1.0) for key in scales)
-            reweighting.append({"pass": k + 1, "largest_scale_change": change})
-            if change < REWEIGHTING_TOLERANCE:
-                break
-            res.scale.update(scales)
-            runs = _Runs(res, params, workers, progress)  # workers copy the new scales
-        try:
-            sol = optimize.least_squares(runs.fun, x, bounds=(lo, hi), jac=jac,
-                                         x_scale="jac", gtol=1e-10, **tolerances)
-        finally:
-            runs.close()
-        if sol.status == 0:
-            raise SolverError(f"{res.suspension.source}: stiffness identification did not "
-                              f"converge in {tolerances['max_nfev']} iterations "
-                              f"({res.evaluations} model runs); fit fewer parameters "
-                              "(kc_test.stiffness_identification.parameters)")
-        x = sol.x
-    return sol, reweighting, passes
+    size = typical_sizes(params, reach)
+    if spec.weighting == "residual":
+        return _likelihood_fit(res, runs, x, (lo, hi), size, tolerances)
+    # trust-region reflective least squares needs a start inside the bounds: the cubics
+    # start at 10 % stiffening at the largest deflection
+    x = np.where([p.kind == "cubic" for p in params], x + 0.1 * size, x)
+    try:
+        sol = optimize.least_squares(runs.residuals, x, jac=runs.jacobian, bounds=(lo, hi),
+                                     x_scale=size, gtol=1e-10, **tolerances)
+    except SolverError as exc:
+        return _stopped(runs, [], f"stopped: {exc}")
+    if sol.status == 0:
+        return _stopped(runs, [], f"did not converge in {tolerances['max_nfev']} model runs")
+    return _outcome(runs, sol.x, [], sol.message, [])
+
+
+def _likelihood_fit(res: Residuals, runs: FitRuns, x, bounds, size, tolerances
+                    ) -> FitOutcome:
+    try:
+        ml = maximum_likelihood_fit(runs.differences, x, bounds, size, res.curves(),
+                                    xtol=tolerances["xtol"], ftol=tolerances["ftol"],
+                                    max_evaluations=tolerances["max_nfev"])
+    except SolverError as exc:
+        return _stopped(runs, [], f"stopped: {exc}")
+    res.scale.update(zip(res.keys, res.curves().scales(ml.r).tolist()))
+    history = [{"iteration": k + 1, **h} for k, h in enumerate(ml.history)]
+    if not ml.converged:
+        return _stopped(runs, history, "(maximum likelihood) did not converge in "
+                                       f"{tolerances['max_nfev']} model runs", ml.x)
+    return _outcome(runs, ml.x, history, f"maximum likelihood converged in {ml.evaluations} "
+                    "model runs", [])
+
+
+def _outcome(runs: FitRuns, x, history, status, warnings) -> FitOutcome:
+    fun, jac, sweeps = runs.evaluate(x)  # weighted with the final curve scales
+    return FitOutcome(x, fun, jac, sweeps, history, 1, status, warnings)
+
+
+def _stopped(runs: FitRuns, history, why: str, x=None) -> FitOutcome:
+    """A fit that stopped early: ``x`` or the best point evaluated is kept, with a warning."""
+    if x is None and runs.best is None:
+        raise SolverError(f"stiffness identification {why}")
+    x = runs.best[0] if x is None else x
+    changes = [round(h["largest_scale_change"], 3) for h in history]
+    return _outcome(runs, x, history, f"stiffness fit {why}",
+                    [f"stiffness fit {why}; the last good values are kept"
+                     + (f" (curve-scale changes per iteration {changes})" if changes else "")])
 
 
 def identify_stiffness(suspension: Suspension, design: DesignState, test: list[Sweep],
@@ -342,51 +370,67 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
                        hidden: dict[str, dict[str, float]] | None = None,
                        workers: int | None = None) -> StiffnessFit:
     """Fit the bushing laws of ``suspension`` (preloads of ``design`` kept) to the ``test``
-    sweeps (see the module docstring). Stopping after ``max_iterations`` (each a Jacobian:
-    one model run per parameter, plus one) without converging is an error. ``hidden``: the
+    sweeps (see the module docstring), from the nominal laws. A fit that has not converged
+    after ``max_iterations`` model runs keeps its best point, with a warning (``ftol``,
+    ``xtol``: see :func:`scipy.optimize.least_squares` and
+    :func:`~elastokin.identification.likelihood.maximum_likelihood_fit`). ``hidden``: the
     true values when the test data are synthetic (bushing -> parameter -> value), reported
-    beside the fitted ones, never used in fitting. ``workers``: processes for the Jacobian's
-    model runs (default :func:`fit_workers`; 1 runs everything in this process); the result
-    does not depend on it."""
+    beside the fitted ones, never used in fitting. ``workers``: processes the load cases
+    of a model run are spread over (default :func:`fit_workers`; 1 runs everything in this
+    process); the result does not depend on it."""
     spec = spec or StiffnessIdentificationSpec()
     params = parameters(suspension, spec)
     # the fit runs the test's load cases over the test's ranges, whatever the report's rig
+    fitted = {p.bushing for p in params}
     res = Residuals(dataclasses.replace(suspension, rig=rig_for_test(test, suspension.rig)),
-                    design, test, spec)
-    before_sweeps = res.sweeps({})
-    r0 = res.vector(before_sweeps)
-    if r0.size <= len(params):
-        raise ElastokinError(f"{suspension.source}: key 'kc_test': {r0.size} test residuals "
-                             f"cannot determine {len(params)} stiffness parameters")
-    workers = fit_workers(len(params)) if workers is None else workers
-    sol, reweighting, passes = _fit(res, params, spec, workers, progress,
-                                    dict(ftol=ftol, xtol=xtol, max_nfev=max_iterations))
-    x = sol.x
+                    design, test, spec, fitted=sorted(fitted))
+    workers = fit_workers(len(res.drives)) if workers is None else workers
+    runs = FitRuns(res, params, workers, progress)
+    try:
+        nominal = np.array([p.to_x(p.nominal) for p in params])
+        before_sweeps = runs.last_sweeps(nominal)
+        r0 = res.vector(before_sweeps)
+        if r0.size <= len(params):
+            raise ElastokinError(f"{suspension.source}: key 'kc_test': {r0.size} test "
+                                 f"residuals cannot determine {len(params)} stiffness "
+                                 "parameters")
+        fit = _fit(res, params, spec, runs, largest_deflections(before_sweeps, fitted),
+                   dict(ftol=ftol, xtol=xtol, max_nfev=max_iterations))
+    finally:
+        runs.close()
+    x, after_sweeps = fit.x, fit.sweeps
     r0 = res.vector(before_sweeps)  # the residuals before the fit, with the final weights
-    cov, corr, cond, t, m_eff = jacobian_statistics(sol.jac, sol.fun, len(params), res.blocks)
-    after_sweeps = res.sweeps(_values(params, x))
-    reach = largest_deflections(after_sweeps, {p.bushing for p in params})
+    res.vector(after_sweeps)  # keys and blocks of the solution
+    cov, corr, cond, t, m_eff = jacobian_statistics(fit.jac, fit.fun, len(params), res.blocks)
+    reach = largest_deflections(after_sweeps, fitted)
     results, warnings = parameter_results(params, x, cov, t, reach, spec)
-    warnings += fit_warnings(reweighting, passes, [p.label for p in params], corr)
+    warnings += fit.warnings + fit_warnings([p.label for p in params], corr)
+    if spec.reweighting_passes is not None:
+        warnings.append("kc_test.stiffness_identification.reweighting_passes is no longer "
+                        "used (the curve scales are estimated by maximum likelihood in one "
+                        "pass, docs/stiffness.md); remove the key")
     labels = [p.label for p in params]
-    values = _values(params, x)
+    values = values_of(params, x)
     return StiffnessFit(
         parameters=results, values=values,
         suspension=with_stiffness(suspension, values), design=design, labels=labels,
         correlation=corr, condition_number=cond,
         residual_rms_before=float(np.sqrt(np.mean(r0 ** 2))),
-        residual_rms_after=float(np.sqrt(np.mean(sol.fun ** 2))),
+        residual_rms_after=float(np.sqrt(np.mean(fit.fun ** 2))),
         channel_rms_before=res.rms(before_sweeps), channel_rms_after=res.rms(after_sweeps),
         errors_before=model_errors(before_sweeps, test),
         errors_after=model_errors(after_sweeps, test),
         residual_count=int(r0.size), effective_residual_count=m_eff,
-        evaluations=res.evaluations, status=sol.message, warnings=warnings,
-        hidden=hidden_comparison(results, values, reach, hidden),
-        settings={"method": "scipy.optimize.least_squares (trf, forward differences, step "
-                            f"{_DIFF_STEP})", "ftol": ftol, "xtol": xtol,
-                  "max_iterations": max_iterations, "workers": workers,
-                  "reweighting": reweighting,
+        evaluations=res.evaluations, status=fit.status, warnings=warnings,
+        hidden=hidden_comparison(results, values, reach, hidden), passes=fit.passes,
+        settings={"method": (
+                      "maximum likelihood (an unknown error level per curve, trust-region "
+                      "Gauss-Newton, elastokin.identification.likelihood)"
+                      if spec.weighting == "residual" else
+                      "scipy.optimize.least_squares (trf)") + " with the exact Jacobian "
+                      "(sensitivities of every step, elastokin.mbs.sensitivity; parameter step "
+                      f"{PARAMETER_STEP})",
+                  "ftol": ftol, "xtol": xtol, "max_iterations": max_iterations,
+                  "workers": workers, "passes": fit.passes, "reweighting": fit.reweighting,
                   "curve_scales": {f"{case}.{c}": v for (case, c), v in res.scale.items()},
                   **spec.model_dump()})
-
-

@@ -18,9 +18,6 @@ from elastokin.config.variants import DesignState
 from elastokin.rig.channels import bushing_columns
 from elastokin.rig.sweeps import Sweep
 
-#: weighting "residual": stop reweighting when no curve's scale changes by more than this
-REWEIGHTING_TOLERANCE = 0.05
-
 
 @dataclass
 class ParameterResult:
@@ -67,6 +64,7 @@ class StiffnessFit:
     status: str
     warnings: list[str] = field(default_factory=list)
     hidden: dict = field(default_factory=dict)  # synthetic data: fitted against the truth
+    passes: int = 1  # least-squares fits made (weighting "residual": one per curve scaling)
     settings: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
@@ -91,6 +89,7 @@ class StiffnessFit:
             "errors_before": self.errors_before,
             "errors_after": self.errors_after,
             "evaluations": self.evaluations,
+            "passes": self.passes,
             "effective_residual_count": self.effective_residual_count,
             "status": self.status,
             "warnings": self.warnings,
@@ -256,15 +255,9 @@ def parameter_results(params, x: np.ndarray, cov: np.ndarray, t: float, reach: d
     return results, warnings
 
 
-def fit_warnings(reweighting: list[dict], passes: int, labels: list[str],
-                 corr: np.ndarray) -> list[str]:
-    """Warnings on the fit: reweighting not converged, strongly correlated parameters."""
+def fit_warnings(labels: list[str], corr: np.ndarray) -> list[str]:
+    """Warnings on the fit: strongly correlated parameters."""
     warnings = []
-    last_change = reweighting[-1]["largest_scale_change"] if reweighting else 0.0
-    if last_change >= REWEIGHTING_TOLERANCE:
-        warnings.append(f"weighting 'residual': stopped after {passes} passes with a curve's "
-                        f"scale still changing by {100 * last_change:.0f} % at the last one "
-                        "(weights not converged; more passes: reweighting_passes)")
     for a in range(len(labels)):
         for b in range(a + 1, len(labels)):
             if abs(corr[a, b]) > 0.95:

@@ -25,18 +25,16 @@ attachments' paths.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from exudyn.advancedUtilities import CreateSymbolicUserFunction
 from exudyn.itemInterface import (
     LoadForceVector,
     LoadTorqueVector,
     MarkerBodyPosition,
     MarkerBodyRigid,
     ObjectConnectorDistance,
-    ObjectConnectorRigidBodySpringDamper,
     ObjectConnectorSpringDamper,
     ObjectGround,
     ObjectJointGeneric,
@@ -46,23 +44,16 @@ from exudyn.itemInterface import (
 )
 from exudyn.rigidBodyUtilities import InertiaCuboid
 
-from elastokin.config.suspension import Bushing, Suspension
+from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
+from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
-from elastokin.mbs.user_functions import make_bushing_function
-from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.states import PartPoses
 
-__all__ = ["EXUDYN_VERSION", "ModelOptions", "SuspensionModel"]
+__all__ = ["DEG", "EXUDYN_VERSION", "ModelOptions", "SuspensionModel"]
 
-DEG = np.pi / 180.0
-#: stiffness of the regularising springs on an ideal joint's free rotations, relative to the
-#: bushing's rotational rates (bushings modelled by their ideal joints)
-REGULARISATION = 1e-3
-#: stiffness holding a bushing's ideal-joint rotations while balancing the design preloads
-BALANCING_ROTATION = 1e9  # N*mm/rad
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
 
@@ -77,11 +68,16 @@ class ModelOptions:
         ``"python"`` (Python callbacks: the straightforward, slow reference).
     part_poses: record every part's pose at every step (needed for the steering-axis
         columns); off, only the wheel part's pose is recorded (the stiffness fit).
+    parametric_bushings: bushings whose laws (scale and cubic per direction, the
+        :class:`~elastokin.physics.laws.ProgressiveLaw` family on the config's laws) can be
+        changed after building, with :meth:`SuspensionModel.set_bushing_laws` (the stiffness
+        fit and its sensitivities, :mod:`elastokin.mbs.sensitivity`).
     """
 
     stiffness_scale: float = 1.0
     user_functions: str = "symbolic"
     part_poses: bool = True
+    parametric_bushings: tuple[str, ...] = ()
 
     def __post_init__(self):
         if self.user_functions not in ("symbolic", "python"):
@@ -130,6 +126,7 @@ class SuspensionModel:
         self.supports: dict[str, dict] = {}
         self.loads: dict[str, dict] = {}
         self.sensors: dict[str, int] = {}
+        self.point_sensors: dict[str, tuple[str, np.ndarray]] = {}  # part, local position
         self._build()
 
     # ------------------------------------------------------------------ building
@@ -156,7 +153,7 @@ class SuspensionModel:
             length = float(np.linalg.norm(link.points_mm[1] - link.points_mm[0]))
             self.links[link.name] = mbs.AddObject(ObjectConnectorDistance(
                 markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
-        self.bushings = {b.name: self._add_bushing(b) for b in s.bushings}
+        self.bushings = {b.name: add_bushing(self, b) for b in s.bushings}
         spec = self.friction_spec
         self.friction = {} if spec is None else {
             name: friction.add_element(self, name, torque, spec.presliding_deg * DEG)
@@ -244,57 +241,6 @@ class SuspensionModel:
         return self.mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"joint:{name}"))
 
-    def _add_bushing(self, b: Bushing) -> dict:
-        mbs = self.mbs
-        m0 = self.rigid_marker(b.parts[0], b.position_mm, b.frame)
-        m1 = self.rigid_marker(b.parts[1], b.position_mm, b.frame)
-        rates = np.array([law.rate_at_zero for law in b.laws]) * self.options.stiffness_scale
-        rates_rad = rates.copy()
-        rates_rad[3:] /= DEG  # N*mm/deg -> N*mm/rad
-        entry = {"markers": (m0, m1), "ideal": None}
-        if b.kinematic or self.balancing:
-            return self._add_ideal_bushing(b, entry, rates_rad)
-        laws = [law.scaled(self.options.stiffness_scale) for law in b.laws]
-        u0 = self.initial_deflection[b.name]
-        if all(law.is_linear for law in laws) and self.options.user_functions == "symbolic":
-            # linear laws: Exudyn's own K * (u - offset), no user function at all
-            offset = -np.r_[u0[:3], u0[3:] * DEG]
-            obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-                markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
-                offset=offset.tolist(), name=f"bushing:{b.name}"))
-            entry.update(object=obj, linear=True, laws=laws, u0=u0)
-            return entry
-        obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-            markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
-            name=f"bushing:{b.name}"))
-        symbolic = self.options.user_functions == "symbolic"
-        uf = make_bushing_function(laws, u0, symbolic=symbolic)
-        if symbolic:
-            uf = CreateSymbolicUserFunction(mbs, uf, "springForceTorqueUserFunction", obj)
-            self.bushing_functions.append(uf)  # the expression tree must outlive the model
-        mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
-        entry.update(object=obj, linear=False, laws=laws, u0=u0)
-        return entry
-
-    def _add_ideal_bushing(self, b: Bushing, entry: dict, rates_rad: np.ndarray) -> dict:
-        m0, m1 = entry["markers"]
-        constrained = np.array(CONSTRAINED[b.ideal_joint])
-        kr = np.where(constrained[3:], 0.0, REGULARISATION * rates_rad[3:])
-        if self.balancing:
-            # translations held exactly (constraint reactions are the bushing forces);
-            # rotations held by stiff springs, whose torques Exudyn reports in the bushing
-            # frame
-            kr = np.where(constrained[3:], BALANCING_ROTATION, kr)
-            constrained[3:] = 0
-        entry["ideal"] = self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m0, m1], constrainedAxes=constrained.tolist(),
-            name=f"ideal:{b.name}"))
-        entry["object"] = self.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-            markerNumbers=[m0, m1], stiffness=np.diag(np.r_[0.0, 0.0, 0.0, kr]),
-            damping=np.zeros((6, 6)), name=f"bushing:{b.name}"))
-        entry["linear"] = True
-        return entry
-
     def _add_sensors(self) -> None:
         """Record the model's own outputs in C++ at each load step (no Python call per step):
         spring forces, bushing deflections and loads, and the poses of the wheel part (always)
@@ -366,6 +312,7 @@ class SuspensionModel:
         if f"point:{name}" in self.sensors:
             raise ModelError(f"{self.suspension.source}: point sensor '{name}' exists already")
         local = np.asarray(point_mm, float) - self.ref[part]
+        self.point_sensors[name] = (part, local)
         self.sensors[f"point:{name}"] = self.mbs.AddSensor(SensorBody(
             bodyNumber=self.body[part], localPosition=local.tolist(),
             outputVariableType=exu.OutputVariableType.Position, storeInternal=True,
@@ -382,6 +329,34 @@ class SuspensionModel:
             i0 = self.mbs.GetNodeODE2Index(node)
             self.mbs.SetNodeParameter(node, "initialCoordinates", q[i0:i0 + 6].tolist())
         exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: setting the start")
+
+    def set_bushing_laws(self, laws: Mapping[str, Sequence]) -> None:
+        """Give parametric bushings (``ModelOptions.parametric_bushings``) new laws: per
+        bushing six laws, each its config law scaled and stiffened
+        (:class:`~elastokin.physics.laws.ProgressiveLaw`); the preload each bushing carries at
+        the design position is kept (its initial deflection follows). No rebuild."""
+        for name, six in laws.items():
+            params = self.bushings.get(name, {}).get("parametric")
+            if params is None:
+                raise ModelError(f"{self.suspension.source}: bushing '{name}' is not "
+                                 "parametric (ModelOptions.parametric_bushings)")
+            scale = self.options.stiffness_scale
+            values = params.values([law.scaled(scale) for law in six])
+            params.apply(values)
+            self.initial_deflection[name] = values[2].copy()
+
+    def bushing_law_values(self) -> dict[str, np.ndarray]:
+        """The current (3, 6) scale / cubic / initial-deflection values of every parametric
+        bushing (see :meth:`set_bushing_laws`)."""
+        return {name: e["parametric"].current for name, e in self.bushings.items()
+                if "parametric" in e}
+
+    def apply_bushing_law_values(self, values: Mapping[str, np.ndarray]) -> None:
+        """Set parametric bushings to values from :meth:`bushing_law_values` (or from a
+        parametric bushing's ``values``): a cheap switch between law sets."""
+        for name, v in values.items():
+            self.bushings[name]["parametric"].apply(v)
+            self.initial_deflection[name] = np.asarray(v[2], float).copy()
 
     def coordinates(self) -> np.ndarray:
         """The bodies' coordinates in the current (last solved) state."""

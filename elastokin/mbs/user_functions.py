@@ -58,7 +58,7 @@ def _max(a, b):
     return a if a > b else b
 
 
-def make_bushing_function(laws: Sequence, initial_deflection: np.ndarray, symbolic: bool):
+def make_bushing_function(laws: Sequence, initial_deflection: Sequence, symbolic: bool):
     """The bushing's 6 loads (N, N*mm) as an Exudyn ``springForceTorqueUserFunction``.
 
     Deflection in the bushing frame: displacement (mm) and Tait-Bryan rotation (rad, converted
@@ -66,7 +66,8 @@ def make_bushing_function(laws: Sequence, initial_deflection: np.ndarray, symbol
     functions, times a polynomial for a progressive law; see :mod:`elastokin.physics.laws`), so the
     same closure is converted to a symbolic function.
     """
-    u0 = [float(x) for x in initial_deflection]
+    # plain numbers, or symbolic variables of a parametric bushing (mbs.bushings)
+    u0 = [x if isinstance(x, exu.symbolic.Real) else float(x) for x in initial_deflection]
     maxf = exu.symbolic.max if symbolic else _max
 
     def evaluate(i, v):

@@ -36,6 +36,16 @@ class PartPoses:
 
 
 @dataclass
+class StateSensitivity:
+    """Derivatives of one solved step with respect to n parameters (config frame): of each
+    point sensor's position (name -> (3, n), mm per unit parameter) and of each recorded part's
+    rotation matrix (part -> (3, 3, n))."""
+
+    points: dict[str, np.ndarray] = field(default_factory=dict)
+    rotation: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+@dataclass
 class ModelState:
     """One solved step of a suspension model.
 
@@ -46,7 +56,8 @@ class ModelState:
     for a bushing modelled by its ideal joint). ``support_force_N``: reaction of each support
     attached to the model (config frame, on the part). ``applied``: the value of each load
     attached to the model at this step (N or N*mm, config frame). ``points``: the position of
-    each point sensor (mm, config frame).
+    each point sensor (mm, config frame). ``sensitivity``: derivatives with respect to model
+    parameters, when the step was solved with them (:mod:`elastokin.mbs.sensitivity`).
     """
 
     poses: PartPoses
@@ -56,6 +67,7 @@ class ModelState:
     support_force_N: dict[str, np.ndarray] = field(default_factory=dict)
     applied: dict[str, np.ndarray] = field(default_factory=dict)
     points: dict[str, np.ndarray] = field(default_factory=dict)
+    sensitivity: StateSensitivity | None = None
 
 
 @dataclass
@@ -65,6 +77,9 @@ class StepState:
     Config frame, mm / N / N*mm / deg. ``pad_force_N``: the force the rig applies to the tyre
     at the contact patch (applied force plus the pad's reaction under displacement control).
     ``poses``: every moving part's pose, or None when the model records the wheel part only.
+    ``sensitivity``: when solved with parameter sensitivities, the derivatives of
+    ``wheel_centre_mm``, ``contact_patch_mm`` and ``spin_axis`` ((3, n) each, per unit of the
+    n parameters).
     """
 
     wheel_centre_mm: np.ndarray
@@ -76,3 +91,4 @@ class StepState:
     bushing_deflection: dict[str, np.ndarray]
     bushing_load: dict[str, np.ndarray]
     poses: PartPoses | None = None
+    sensitivity: dict[str, np.ndarray] | None = None

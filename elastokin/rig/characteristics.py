@@ -25,15 +25,12 @@ from elastokin.rig.steering import steering_axis_columns
 from elastokin.rig.sweeps import Sweep, find_sweep, static_row_value
 
 
-def characteristics(states: list[StepState], suspension: Suspension,
-                    design: StepState | None = None) -> dict[str, np.ndarray]:
-    """Per-step columns (kc.csv name -> array) from solved rig steps."""
+def wheel_columns(centre: np.ndarray, spin: np.ndarray, suspension: Suspension,
+                  centre0: np.ndarray) -> dict[str, np.ndarray]:
+    """The wheel's columns (kc.csv name -> array) from wheel-centre positions (n, 3) (mm) and
+    outboard spin axes (n, 3), config frame; displacements from ``centre0``."""
     s = suspension
-    centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
-    centre = np.array([st.wheel_centre_mm for st in states])
-    spin = np.array([st.spin_axis for st in states])
-    pad = np.array([st.pad_force_N for st in states])
-    cols = {
+    return {
         "wheel_travel_mm": (centre - centre0) @ s.up,
         "wheel_centre_longitudinal_mm": (centre - centre0) @ s.forward,
         "wheel_centre_lateral_mm": (centre - centre0) @ s.left,
@@ -42,10 +39,49 @@ def characteristics(states: list[StepState], suspension: Suspension,
         "wheel_centre_z_mm": centre[:, 2],
         "toe_deg": toe_deg(spin, s.forward, s.outboard),
         "camber_deg": camber_deg(spin, s.forward, s.outboard, s.up),
+    }
+
+
+def wheel_column_tangents(states: list[StepState], suspension: Suspension
+                          ) -> dict[str, np.ndarray]:
+    """Derivatives (n_steps, n_parameters) of the wheel's columns (:func:`wheel_columns`)
+    with respect to the parameters of steps solved with sensitivities (``StepState
+    .sensitivity``): central differences of the columns along each parameter's tangent of
+    the wheel centre and spin axis, with a step small enough (at most 1e-6 of the unit spin
+    axis and 1e-3 mm; the columns are linear in the centre) that they are linear over it to
+    rounding."""
+    centre = np.array([st.wheel_centre_mm for st in states])
+    spin = np.array([st.spin_axis for st in states])
+    d_centre = np.array([st.sensitivity["wheel_centre_mm"] for st in states])  # (n, 3, p)
+    d_spin = np.array([st.sensitivity["spin_axis"] for st in states])
+    out: dict[str, list[np.ndarray]] = {}
+    for j in range(d_centre.shape[2]):
+        size = max(float(np.max(np.abs(d_spin[:, :, j]))),
+                   1e-3 * float(np.max(np.abs(d_centre[:, :, j]))), 1e-300)
+        h = 1e-6 / size
+        plus = wheel_columns(centre + h * d_centre[:, :, j], spin + h * d_spin[:, :, j],
+                             suspension, suspension.wheel.centre_mm)
+        minus = wheel_columns(centre - h * d_centre[:, :, j], spin - h * d_spin[:, :, j],
+                              suspension, suspension.wheel.centre_mm)
+        for name in plus:
+            out.setdefault(name, []).append((plus[name] - minus[name]) / (2 * h))
+    return {name: np.stack(cols, axis=1) for name, cols in out.items()}
+
+
+def characteristics(states: list[StepState], suspension: Suspension,
+                    design: StepState | None = None) -> dict[str, np.ndarray]:
+    """Per-step columns (kc.csv name -> array) from solved rig steps."""
+    s = suspension
+    centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
+    centre = np.array([st.wheel_centre_mm for st in states])
+    spin = np.array([st.spin_axis for st in states])
+    pad = np.array([st.pad_force_N for st in states])
+    cols = wheel_columns(centre, spin, s, centre0)
+    cols.update({
         "contact_patch_fx_N": pad[:, 0],
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
-    }
+    })
     if states[0].poses is not None:  # models that record the wheel part only: none
         cols.update(steering_axis_columns(states, s))
     for name in states[0].spring_force_N:

@@ -13,6 +13,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -27,7 +28,11 @@ from elastokin.config.schema import (
 )
 from elastokin.config.suspension import Suspension
 from elastokin.rig.channels import FORCE_CASES, LOAD_CASES
-from elastokin.rig.characteristics import bushing_table, characteristics
+from elastokin.rig.characteristics import (
+    bushing_table,
+    characteristics,
+    wheel_column_tangents,
+)
 from elastokin.rig.pad import run_pad
 from elastokin.rig.paths import sweep_path, travel_path, vertical_force_path
 from elastokin.rig.sweeps import Sweep
@@ -124,24 +129,31 @@ def drives(suspension: Suspension, rig: RigSpec | None = None,
     return out
 
 
-def run_drive(model: SuspensionModel, label: str, drive: Drive) -> Sweep:
-    """The sweep of ``drive`` on ``model`` (the pad attached when it is not yet)."""
+def run_drive(model: SuspensionModel, label: str, drive: Drive,
+              variations: Sequence | None = None) -> Sweep:
+    """The sweep of ``drive`` on ``model`` (the pad attached when it is not yet); with
+    ``variations`` (parameters of the model's parametric bushings,
+    :class:`~elastokin.mbs.sensitivity.LawVariation`) the sweep carries the tangents of the
+    wheel's columns (``Sweep.tangents``)."""
     rig = model.suspension.rig_source
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
-    states = run_pad(model, drive.pad_z_mm, drive.pad_loads, drive.centre_loads, what=what)
+    states = run_pad(model, drive.pad_z_mm, drive.pad_loads, drive.centre_loads, what=what,
+                     variations=variations)
     cols = {"branch": drive.branch, drive.input_column: drive.inputs}
     keep = drive.recorded
     if keep is not None:
         states = [st for st, k in zip(states, keep) if k]
         cols = {k: v[keep] for k, v in cols.items()}
     cols.update(characteristics(states, model.suspension))
-    return Sweep(label, drive.load_case, cols)
+    tangents = wheel_column_tangents(states, model.suspension) if variations else {}
+    return Sweep(label, drive.load_case, cols, tangents)
 
 
-def run_load_cases(model: SuspensionModel, label: str, rig: RigSpec | None = None
-                   ) -> list[Sweep]:
-    """Every load case of ``rig`` (default: the model's config's) on ``model``."""
-    return [run_drive(model, label, d)
+def run_load_cases(model: SuspensionModel, label: str, rig: RigSpec | None = None,
+                   variations: Sequence | None = None) -> list[Sweep]:
+    """Every load case of ``rig`` (default: the model's config's) on ``model``
+    (``variations``: see :func:`run_drive`)."""
+    return [run_drive(model, label, d, variations)
             for d in drives(model.suspension, rig, model.suspension.kinematic)]
 
 

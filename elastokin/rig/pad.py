@@ -44,7 +44,8 @@ def attach_pad(model: SuspensionModel) -> None:
 def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
             pad_loads: np.ndarray | None = None, centre_loads: np.ndarray | None = None,
             what: str = "static solve", solve_per_step: bool = False,
-            substeps: int | None = None) -> list[StepState]:
+            substeps: int | None = None, variations: Sequence | None = None
+            ) -> list[StepState]:
     """Quasi-static steps of the rig from the design position.
 
     pad_z_mm: prescribed vertical displacement of the contact patch per step (mm), or None
@@ -52,8 +53,12 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
     pad_loads: (n, 3) forces at the contact patch per step, N, config frame.
     centre_loads: (n, 6) forces (N) and torques (N*mm) at the wheel centre per step.
     solve_per_step, substeps: see :func:`elastokin.mbs.solve.solve_path`.
+    variations: parameters of the model's parametric bushings
+        (:class:`~elastokin.mbs.sensitivity.LawVariation`): every step then carries the
+        derivatives of the wheel centre, contact patch and spin axis with respect to them.
     Returns one :class:`StepState` per step.
     """
+    from elastokin.mbs.sensitivity import solve_path_with_sensitivities
     from elastokin.mbs.solve import solve_path
 
     if pad_z_mm is None and pad_loads is None:
@@ -69,9 +74,12 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
         offset = np.zeros((n, 6))
         offset[:, 2] = np.asarray(pad_z_mm, float)
         inputs[PAD] = offset
-    # with ball-joint friction the suspension first settles under the first pad load
-    states = solve_path(model, inputs, what, settle={PATCH_FORCE: pl[0]},
-                        solve_per_step=solve_per_step, substeps=substeps)
+    if variations:
+        states = solve_path_with_sensitivities(model, inputs, what, variations)
+    else:
+        # with ball-joint friction the suspension first settles under the first pad load
+        states = solve_path(model, inputs, what, settle={PATCH_FORCE: pl[0]},
+                            solve_per_step=solve_per_step, substeps=substeps)
     return [wheel_state(model, st, pad_z_mm is not None) for st in states]
 
 
@@ -86,7 +94,11 @@ def wheel_state(model: SuspensionModel, state: ModelState, displacement_control:
     pad = state.applied[PATCH_FORCE].copy()
     if displacement_control:
         pad[2] += state.support_force_N[PAD][2]
+    sens = state.sensitivity
+    derivatives = None if sens is None else {
+        "wheel_centre_mm": sens.points[CENTRE], "contact_patch_mm": sens.points[PATCH],
+        "spin_axis": np.einsum("abp,b->ap", sens.rotation[w.part], w.spin_axis)}
     return StepState(state.points[CENTRE], R @ w.spin_axis, R, state.points[PATCH], pad,
                      state.spring_force_N,
                      state.bushing_deflection, state.bushing_load,
-                     poses if model.options.part_poses else None)
+                     poses if model.options.part_poses else None, derivatives)

@@ -20,6 +20,9 @@ class Sweep:
     model: str
     load_case: str
     columns: dict[str, np.ndarray] = field(default_factory=dict)
+    #: with parameter sensitivities: d column / d parameter, (steps, parameters), for the
+    #: wheel's columns (:func:`elastokin.rig.characteristics.wheel_column_tangents`)
+    tangents: dict[str, np.ndarray] = field(default_factory=dict)
 
     def stroke(self, name: str) -> np.ndarray:
         return self.columns[name][self.columns["branch"] == "stroke"]
