@@ -57,18 +57,21 @@ class Curves:
 
 
 def linearised_step(curves: Curves, r: np.ndarray, jac: np.ndarray, lower: np.ndarray,
-                    upper: np.ndarray) -> tuple[np.ndarray, float]:
+                    upper: np.ndarray, size: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, float]:
     """The step dx in the box [lower, upper] minimising L(r + jac dx), and the decrease of L
-    it predicts."""
+    it predicts (truncated Newton with bounds; ``size``: the variables' typical sizes, for
+    the minimiser's scaling)."""
+    size = np.ones(jac.shape[1]) if size is None else np.asarray(size, float)
 
-    def fun(dx):
-        e = r + jac @ dx
-        return curves.nll(e), curves.gradient(e, jac)
+    def fun(z):
+        e = r + jac @ (z * size)
+        return curves.nll(e), curves.gradient(e, jac) * size
 
-    best = optimize.minimize(fun, np.zeros(jac.shape[1]), jac=True,
-                             method="L-BFGS-B", bounds=list(zip(lower, upper)),
-                             options={"gtol": 1e-12, "ftol": 1e-15, "maxiter": 1000})
-    return best.x, curves.nll(r) - float(best.fun)
+    best = optimize.minimize(fun, np.zeros(jac.shape[1]), jac=True, method="TNC",
+                             bounds=list(zip(lower / size, upper / size)),
+                             options={"xtol": 1e-12, "maxfun": 2000})
+    return best.x * size, curves.nll(r) - float(best.fun)
 
 
 @dataclass
@@ -102,7 +105,7 @@ def maximum_likelihood_fit(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np
     scale = curves.scales(r)
     while fit.evaluations < max_evaluations:
         step, predicted = linearised_step(curves, r, jac, np.maximum(lo - x, -radius * size),
-                                          np.minimum(hi - x, radius * size))
+                                          np.minimum(hi - x, radius * size), size)
         moved = float(np.max(np.abs(step) / size))
         if moved <= xtol or predicted <= ftol * r.size:
             fit.converged = True

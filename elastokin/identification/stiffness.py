@@ -220,19 +220,54 @@ class Residuals:
                 if r is not None:
                     yield t.load_case, c, r
 
+    def curve_blocks(self, sweeps: list[Sweep], tangents: bool = False
+                     ) -> list[tuple[tuple[str, str], np.ndarray, np.ndarray | None]]:
+        """Per test curve the sweeps answer: its key (load case, channel), its residuals
+        (model - test, mm or deg) less their mean and, with ``tangents``, their derivatives
+        (residuals x parameters) from the sweep's tangents: central differences along each
+        parameter's tangent of the sweep's channels, with a step that moves no channel by more
+        than 1e-6 (mm or deg). The residuals are piecewise linear in the channels
+        (interpolation), so this is exact to rounding. Each sweep is treated on its own, so
+        the blocks do not depend on how sweeps are grouped (worker processes)."""
+        out = []
+        for sw in sweeps:
+            # a free offset per curve (the mean) instead of the test's static value: one
+            # noisy test point must not shift a whole curve
+            base = {(case, c): r - r.mean() for case, c, r in self._curves([sw], clamp=True)}
+            columns: dict[tuple[str, str], list] = {key: [] for key in base}
+            n = next(iter(sw.tangents.values())).shape[1] if tangents and sw.tangents else 0
+            for j in range(n):
+                size = max(float(np.max(np.abs(t[:, j]))) for t in sw.tangents.values())
+                h = 1e-6 / max(size, 1e-300)
+                plus, minus = ({(case, c): r for case, c, r in
+                                self._curves([_moved(sw, j, sign * h)], clamp=True)}
+                               for sign in (1.0, -1.0))
+                for key in base:
+                    # less the mean: the derivative of the mean's removal
+                    d = (plus[key] - minus[key]) / (2.0 * h)
+                    columns[key].append(d - d.mean())
+            out += [(key, r, np.column_stack(columns[key]) if n else None)
+                    for key, r in base.items()]
+        return out
+
+    def assemble(self, blocks) -> tuple[np.ndarray, np.ndarray | None]:
+        """The residual vector (and Jacobian, when the blocks have one) from
+        :meth:`curve_blocks`, in the test's curve order (recorded in :attr:`keys` and
+        :attr:`blocks`)."""
+        order = {(t.load_case, c): i for i, (t, c) in
+                 enumerate((t, c) for t in self.test for c in self.channels(t))}
+        blocks = sorted(blocks, key=lambda b: order[b[0]])
+        self.keys = [b[0] for b in blocks]  # (load case, channel) per curve
+        self.blocks = [b[1].size for b in blocks]  # residuals per curve, in vector order
+        r = np.concatenate([b[1] for b in blocks])
+        jac = (np.vstack([b[2] for b in blocks]) if blocks and blocks[0][2] is not None
+               else None)
+        return r, jac
+
     def differences(self, sweeps: list[Sweep]) -> np.ndarray:
         """All residuals (model - test, mm or deg), each curve less its mean, in vector order
         (recorded in :attr:`keys` and :attr:`blocks`)."""
-        parts = []
-        self.blocks: list[int] = []  # residuals per curve, in vector order
-        self.keys: list[tuple[str, str]] = []  # (load case, channel) per curve, same order
-        for case, c, r in self._curves(sweeps, clamp=True):
-            # a free offset per curve (the mean) instead of the test's static value: one
-            # noisy test point must not shift a whole curve
-            parts.append(r - r.mean())
-            self.blocks.append(r.size)
-            self.keys.append((case, c))
-        return np.concatenate(parts)
+        return self.assemble(self.curve_blocks(sweeps))[0]
 
     def vector(self, sweeps: list[Sweep]) -> np.ndarray:
         """All residuals, divided by their curve's scale (the fit's objective)."""
@@ -240,20 +275,17 @@ class Residuals:
         return r / self.scale_vector()
 
     def jacobian(self, sweeps: list[Sweep]) -> np.ndarray:
-        """d :meth:`differences` / d parameters from the sweeps' tangents: central
-        differences of the residuals along each parameter's tangent of every channel, with a
-        step that moves no channel by more than 1e-6 (mm or deg). The residuals are piecewise
-        linear in the channels (interpolation), so this is exact to rounding."""
-        n = next(iter(sweeps[0].tangents.values())).shape[1]
-        columns = []
-        for j in range(n):
-            size = max(float(np.max(np.abs(t[:, j]))) for sw in sweeps
-                       for t in sw.tangents.values())
-            h = 1e-6 / max(size, 1e-300)
-            plus, minus = (self.differences([_moved(sw, j, sign * h) for sw in sweeps])
-                           for sign in (1.0, -1.0))
-            columns.append((plus - minus) / (2.0 * h))
-        return np.column_stack(columns)
+        """d :meth:`differences` / d parameters from the sweeps' tangents
+        (:meth:`curve_blocks`)."""
+        return self.assemble(self.curve_blocks(sweeps, tangents=True))[1]
+
+    def run(self, values: dict[str, dict[str, float]], variations: Sequence[LawVariation],
+            indices: Sequence[int] | None = None) -> tuple[list[Sweep], list]:
+        """A run with sensitivities: the sweeps (without their tangents) and the curve blocks
+        with their Jacobians (:meth:`curve_blocks`)."""
+        sweeps = self.sweeps(values, variations, indices)
+        blocks = self.curve_blocks(sweeps, tangents=True)
+        return [dataclasses.replace(sw, tangents={}) for sw in sweeps], blocks
 
     def scale_vector(self) -> np.ndarray:
         """Each residual's curve scale (the last :meth:`vector`'s order)."""

@@ -24,8 +24,8 @@ def _start_worker(residuals) -> None:
     _WORKER_RESIDUALS = residuals
 
 
-def _worker_sweeps(values: dict, variations: list, indices: list[int]) -> list:
-    return _WORKER_RESIDUALS.sweeps(values, variations, indices)
+def _worker_run(values: dict, variations: list, indices: list[int]) -> tuple[list, list]:
+    return _WORKER_RESIDUALS.run(values, variations, indices)
 
 
 def fit_workers(n_load_cases: int) -> int:
@@ -82,16 +82,19 @@ class FitRuns:
         return SolverError(f"stiffness identification: the model does not solve at {vals}: "
                            f"{exc}")
 
-    def _sweeps(self, values: dict, variations: list) -> list:
+    def _evaluate(self, values: dict, variations: list) -> tuple[list, list]:
+        """Sweeps and curve blocks of one run, its load cases spread over the workers."""
         if self.pool is None:
-            return self.res.sweeps(values, variations)
-        futures = [self.pool.submit(_worker_sweeps, values, variations, ids)
+            return self.res.run(values, variations)
+        futures = [self.pool.submit(_worker_run, values, variations, ids)
                    for ids in self.split]
-        by_index = {}
+        sweeps, blocks = {}, []
         for ids, fut in zip(self.split, futures):
-            by_index.update(zip(ids, fut.result()))
+            part, part_blocks = fut.result()
+            sweeps.update(zip(ids, part))
+            blocks += part_blocks
         self.res.evaluations += 1
-        return [by_index[i] for i in sorted(by_index)]
+        return [sweeps[i] for i in sorted(sweeps)], blocks
 
     def _run(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
         """(residual differences, their Jacobian, sweeps with tangents) at ``x``."""
@@ -102,11 +105,11 @@ class FitRuns:
                       "(with sensitivities)")
         values, variations = self.res.point(self.params, x)
         try:
-            sweeps = self._sweeps(values, variations)
+            sweeps, blocks = self._evaluate(values, variations)
         except SolverError as exc:
             raise self._failed(values, exc) from None
-        r = self.res.differences(sweeps)
-        self.kept = [(x.copy(), r, self.res.jacobian(sweeps), sweeps), *self.kept[:3]]
+        r, jac = self.res.assemble(blocks)
+        self.kept = [(x.copy(), r, jac, sweeps), *self.kept[:3]]
         cost = float(np.sum((r / self.res.scale_vector()) ** 2))
         if self.best is None or cost < self.best[1]:
             self.best = (x.copy(), cost)

@@ -266,23 +266,24 @@ def _system_matrices(res: _Residual, steps) -> tuple[np.ndarray, np.ndarray]:
     J0 = res.jacobian()
     q_all = np.array([q for _, q, _ in steps])
     h = COORDINATE_STEP * np.maximum(1.0, np.abs(q_all))  # (n_steps, n2)
+    # every perturbation of a step: +h and -h on the coordinates of one colour class and
+    # direction (rows 2e and 2e + 1)
+    signs = np.zeros((2 * len(res.perturbed), n2))
+    for e, cols in enumerate(res.perturbed):
+        signs[2 * e, cols], signs[2 * e + 1, cols] = 1.0, -1.0
     r0 = np.empty((len(steps), n))
-    dR = np.empty((len(steps), len(res.perturbed), n))
+    R = np.empty((len(steps), signs.shape[0], n))
     sd, cur = res.mbs.systemData, res.current
     for i, (t, q, lam) in enumerate(steps):
         res.set_state(t, q, lam)
         r0[i] = res.residual()
-        for e, cols in enumerate(res.perturbed):
-            y = q.copy()
-            y[cols] += h[i, cols]
+        Ri = R[i]
+        for k, y in enumerate(q + signs * h[i]):
             sd.SetODE2Coordinates(y, cur)
-            dR[i, e] = res.residual()
-            y[cols] -= 2.0 * h[i, cols]
-            sd.SetODE2Coordinates(y, cur)
-            dR[i, e] -= res.residual()
+            Ri[k] = res.residual()
     e, row, col = res.scatter
     A = np.zeros((len(steps), n, n))
-    A[:, row, col] = dR[:, e, row] / (2.0 * h[:, col])
+    A[:, row, col] = (R[:, 2 * e, row] - R[:, 2 * e + 1, row]) / (2.0 * h[:, col])
     if not np.allclose(J0[:n2, n2:], J0[n2:, :n2].T, rtol=0.0,
                        atol=1e-12 * np.max(np.abs(J0[:n2, n2:]), initial=1.0)):
         raise ModelError(f"{res.model.suspension.source}: sensitivities: a joint's reaction "

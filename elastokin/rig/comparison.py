@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from elastokin.config.schema import RigSpec
 from elastokin.errors import MeasurementError
 from elastokin.rig.channels import ERRORS, LOAD_CASES
-from elastokin.rig.sweeps import Sweep, find_sweep
+from elastokin.rig.sweeps import Sweep, branch_names, find_sweep
 
 
 def rig_for_test(test: list[Sweep], rig: RigSpec) -> RigSpec:
@@ -87,7 +87,7 @@ def travel_stroke_note(models: dict[str, list[Sweep]], test: list[Sweep]) -> str
 def _segments(sweep: Sweep, x: str, y: str):
     """(branch, x, y) per branch in step order, the approach left out."""
     br = sweep.columns["branch"]
-    for name in dict.fromkeys(br):
+    for name in branch_names(br):
         if name == "approach":
             continue
         keep = br == name
@@ -100,7 +100,7 @@ def static_value(sweep: Sweep, x: str, y: str) -> float:
     force case measure every curve from this value."""
     xs, ys = sweep.columns[x], sweep.columns[y]
     br = sweep.columns["branch"]
-    for name in dict.fromkeys(br):
+    for name in branch_names(br):
         keep = br == name
         xb, yb = xs[keep], ys[keep]
         if xb.size < 2:

@@ -32,6 +32,15 @@ class Sweep:
         return len(self.columns["branch"])
 
 
+def branch_names(branch: np.ndarray) -> list[str]:
+    """The branch labels of a sweep's steps in the order the branches first appear."""
+    b = np.asarray(branch)
+    if b.size == 0:
+        return []
+    starts = np.r_[0, np.flatnonzero(b[1:] != b[:-1]) + 1]
+    return list(dict.fromkeys(b[starts].tolist()))
+
+
 def find_sweep(sweeps: list[Sweep], load_case: str) -> Sweep | None:
     """The sweep of ``load_case`` among ``sweeps`` (None when it was not run)."""
     return next((sw for sw in sweeps if sw.load_case == load_case), None)
