@@ -23,6 +23,8 @@ import sys
 import time
 from pathlib import Path
 
+from tqdm import tqdm
+
 from elastokin.config.loading import load_suspension
 from elastokin.mbs.model import EXUDYN_VERSION
 from elastokin.rig.characteristics import steer_amplitude_deg
@@ -45,10 +47,17 @@ def main() -> int:
 
     t0 = time.perf_counter()
     s = load_suspension(CONFIG)
-    run = run_kc(s)
+    with tqdm(total=9, file=sys.stderr, leave=False,
+              bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]") as bar:
+        def progress(msg: str) -> None:
+            bar.set_description_str(msg)
+            bar.update(1)
+        # the steer amplitudes need no stiffness fit
+        run = run_kc(s, progress, models=["initial", "identified"])
+        progress("synthetic real suspension: parallel travel")
+        real = parallel_travel(real_suspension_model(s), "test")
     amplitudes = {label: run.models[label].summary()["steer_amplitude_deg"]
                   for label in ("test", "initial", "identified")}
-    real = parallel_travel(real_suspension_model(s), "test")
     regenerated = steer_amplitude_deg(real)
     seconds = time.perf_counter() - t0
     paper = dict(s.reference.steer_amplitude_deg)

@@ -5,6 +5,7 @@ of a run are printed once each as ``elastokin: warning: ...`` lines."""
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from pathlib import Path
 
@@ -12,6 +13,29 @@ import click
 
 from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error, rig_option
 from elastokin.errors import ElastokinError
+
+#: model runs the progress bar expects of a stiffness fit (the case study takes 6)
+FIT_RUNS_EXPECTED = 7
+
+
+@contextlib.contextmanager
+def progress_bar(stages: int, quiet: bool = False):
+    """A progress bar on stderr (elapsed time and an estimate of what is left) as a
+    function ``progress(message)`` that shows the message and counts one stage; more stages
+    than expected (a fit taking more model runs) extend the bar. Shown only on a terminal
+    (not when stderr is piped or a file), never with ``quiet``."""
+    from tqdm import tqdm
+
+    with tqdm(total=max(stages, 1), disable=True if quiet else None, file=sys.stderr,
+              leave=False,
+              bar_format="{desc:<56} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]"
+              ) as bar:
+        def progress(msg: str) -> None:
+            if bar.n + 1 >= bar.total:
+                bar.total = bar.n + 2
+            bar.set_description_str(msg)
+            bar.update(1)
+        yield progress
 
 
 @click.command()
@@ -42,8 +66,6 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
     summary.json (characteristics, errors against the test, Table-3 style bushing
     deflections, provenance), the charts (PNG + SVG) and a self-contained report.html.
     """
-    from tqdm import tqdm
-
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
@@ -59,15 +81,12 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
             chosen = select_models(suspension, models)
             labels = [m for m in model_labels(suspension) if m in chosen]
             fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
-            stages = (3 + 2 * len(labels) + (suspension.measurements is not None) + 2 * fit)
-            with output as tmp, tqdm(
-                    total=stages, disable=quiet, file=sys.stderr, leave=False,
-                    bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}]") as bar:
-                def progress(msg: str) -> None:
-                    bar.set_description_str(msg)
-                    bar.update(1)
+            stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
+                      + (2 + FIT_RUNS_EXPECTED) * fit)
+            with output as tmp, progress_bar(stages, quiet) as progress:
                 cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
-                run = run_kc(suspension, progress, bar.set_description_str, chosen, cache)
+                # every model run of the fit advances the bar too
+                run = run_kc(suspension, progress, progress, chosen, cache)
                 progress("writing results")
                 run.add_warnings(log.messages)  # into summary.json
                 summary = write_kc_results(run, tmp)
@@ -117,16 +136,18 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
         try:
             output.check()  # before any computation
             suspension = load_suspension(config_path)
-            say = (lambda m: None) if quiet else (lambda m: click.echo(f"  {m} ...", err=True))
-            with output as tmp:
+            stages = 4 + (2 + FIT_RUNS_EXPECTED) * stiffness
+            with output as tmp, progress_bar(stages, quiet) as progress:
                 test = read_test_sweeps(suspension)[0] if stiffness else []
-                ident = identify_geometry(suspension, progress=say)
+                ident = identify_geometry(suspension, progress=progress)
                 result = None
                 if stiffness:
                     start = identified_suspension(ident)
-                    say("fitting bushing stiffness to the K&C test data (about a minute)")
+                    progress("fitting bushing stiffness to the K&C test data")
                     result = fit(suspension,
-                                 ModelVariant("identified", start, design_state(start)), test)
+                                 ModelVariant("identified", start, design_state(start)), test,
+                                 progress)
+                progress("writing results")
                 files = write_identification_results(tmp, ident, result, config_path)
         except ElastokinError as exc:
             fail(str(exc))
@@ -185,14 +206,16 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
             if kc_test and kc_test_dir is None and s.kc_test is not None:
                 _check_data_folder(here / s.kc_test.folder, "kc_test.folder")
             written = []
-            if cmm:
-                files = run_synthesis(s, seed, out_dir)
-                written.append(f"wrote {len(files)} files in {files[0].parent}/: "
-                               + ", ".join(f.name for f in files))
-            if kc_test:
-                files = write_kc_test_files(s, kc_test_dir, seed=seed)
-                written.append(f"wrote {len(files)} K&C test files in {files[0].parent}/: "
-                               + ", ".join(f.name for f in files))
+            with progress_bar(cmm + 6 * kc_test) as progress:
+                if cmm:
+                    progress("virtual CMM: as-built suspension and its measurements")
+                    files = run_synthesis(s, seed, out_dir)
+                    written.append(f"wrote {len(files)} files in {files[0].parent}/: "
+                                   + ", ".join(f.name for f in files))
+                if kc_test:
+                    files = write_kc_test_files(s, kc_test_dir, seed=seed, progress=progress)
+                    written.append(f"wrote {len(files)} K&C test files in "
+                                   f"{files[0].parent}/: " + ", ".join(f.name for f in files))
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:

@@ -21,7 +21,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize
 
 
 @dataclass(frozen=True)
@@ -62,6 +61,8 @@ def linearised_step(curves: Curves, r: np.ndarray, jac: np.ndarray, lower: np.nd
     """The step dx in the box [lower, upper] minimising L(r + jac dx), and the decrease of L
     it predicts (truncated Newton with bounds; ``size``: the variables' typical sizes, for
     the minimiser's scaling)."""
+    from scipy import optimize
+
     size = np.ones(jac.shape[1]) if size is None else np.asarray(size, float)
 
     def fun(z):

@@ -16,7 +16,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
 
 from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
@@ -349,6 +348,8 @@ def _fit(res: Residuals, params: list[Parameter], spec: StiffnessIdentificationS
     size = typical_sizes(params, reach)
     if spec.weighting == "residual":
         return _likelihood_fit(res, runs, x, (lo, hi), size, tolerances)
+    from scipy import optimize
+
     # trust-region reflective least squares needs a start inside the bounds: the cubics
     # start at 10 % stiffening at the largest deflection
     x = np.where([p.kind == "cubic" for p in params], x + 0.1 * size, x)

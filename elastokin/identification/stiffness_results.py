@@ -10,7 +10,6 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 
 from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
@@ -211,6 +210,8 @@ def jacobian_statistics(jac: np.ndarray, residual: np.ndarray, n: int, blocks: l
     d = np.sqrt(np.abs(np.diag(cov_n)))
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov_n / np.outer(d, d)
+    from scipy import stats  # imported when a fit is made (0.35 s), not for its results
+
     t = float(stats.t.ppf(0.975, max(m_eff - n, 1.0)))
     return cov, np.nan_to_num(corr), cond, t, m_eff
 

@@ -50,19 +50,20 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
         writer = csv.writer(fh, lineterminator="\n")
         writer.writerow(["model", "load_case", "step", "branch", *names])
         for sw in sweeps:
-            for i in range(sw.steps):
-                row = [sw.model, sw.load_case, i + 1, sw.columns["branch"][i]]
-                for c in names:
-                    v = sw.columns.get(c)
-                    row.append("" if v is None else _fmt(v[i]))
-                writer.writerow(row)
+            n = sw.steps
+            cols = [[sw.model] * n, [sw.load_case] * n, range(1, n + 1),
+                    [str(b) for b in sw.columns["branch"]]]
+            cols += [_formatted(sw.columns[c]) if c in sw.columns else [""] * n
+                     for c in names]
+            writer.writerows(zip(*cols))
 
 
-def _fmt(x) -> str:
-    if isinstance(x, (str, np.str_)):
-        return str(x)
-    x = float(x)
-    return "" if math.isnan(x) else repr(round(x, 10))
+def _formatted(column) -> list[str]:
+    """A column's values as kc.csv writes them: rounded to 10 decimals, NaN empty."""
+    if np.asarray(column).dtype.kind in "US":
+        return [str(x) for x in column]
+    return ["" if math.isnan(x) else repr(round(x, 10))
+            for x in np.asarray(column, float).tolist()]
 
 
 def summary_dict(run: KCRun, files: list[str]) -> dict:

@@ -299,7 +299,35 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
                          fit_cache: tuple[ResultCache, str] | None = None) -> KCRun:
     """The job from model variants: ``static_label`` names the one whose static equilibrium
     is reported and from which the stiffness fit starts (``fit_stiffness``: when the config
-    asks for it, :func:`fits_stiffness`)."""
+    asks for it, :func:`fits_stiffness`). ``fit_cache``: a cache and the key of every input
+    the variants come from (config, rig, CMM and test files): the fit and every model's load
+    cases are reused when they were computed from the same inputs."""
+    cache, key = fit_cache or (None, "")
+    test_sweeps, files = test
+    fit_stiffness = bool(test_sweeps) and fit_stiffness and fits_stiffness(suspension)
+    models_key = content_key("models", key, static_label, *variants, fit_stiffness)
+    stored = cache.get("models", models_key) if cache is not None else None
+    if stored is not None:
+        progress("K&C load cases of every model reused (same inputs)")
+        design, static_result, models, stiffness = stored
+        if stiffness is not None:  # the fit's own entry, carried over (and listed reused)
+            stiffness = cache.get("stiffness_fit", key) or stiffness
+            cache.put("stiffness_fit", key, stiffness)
+    else:
+        design, static_result, models, stiffness = _solve_models(
+            suspension, variants, static_label, test_sweeps if fit_stiffness else [],
+            progress, detail, fit_cache)
+    if cache is not None:
+        cache.put("models", models_key, (design, static_result, models, stiffness))
+    models, errors, warnings = compare(models, test_sweeps, files)
+    return KCRun(suspension, design, static_result, models, None, errors, stiffness, warnings)
+
+
+def _solve_models(suspension, variants, static_label, test_sweeps, progress, detail,
+                  fit_cache):
+    """(design preloads of the reported model, its static equilibrium, every model's
+    results, the stiffness fit or None): the steps ``preloads``, ``static``, ``load_cases``
+    and (with test sweeps) ``fit``."""
     variants = preloads(variants)
     models, static_result = {}, None
     for label, v in variants.items():
@@ -310,8 +338,7 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
             static_result = static(v, model)
         models[label] = load_cases(v, progress, model)
     stiffness = None
-    test_sweeps, files = test
-    if test_sweeps and fit_stiffness and fits_stiffness(suspension):
+    if test_sweeps:
         cache, key = fit_cache or (None, "")
         stiffness = cache.get("stiffness_fit", key) if cache is not None else None
         if stiffness is None:
@@ -323,6 +350,4 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
             cache.put("stiffness_fit", key, stiffness)
         fitted = ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
         models["identified_stiffness"] = load_cases(fitted, progress)
-    models, errors, warnings = compare(models, test_sweeps, files)
-    return KCRun(suspension, variants[static_label].preloads, static_result, models, None,
-                 errors, stiffness, warnings)
+    return variants[static_label].preloads, static_result, models, stiffness

@@ -26,6 +26,7 @@ forward +, aligning torque toe-in +).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -44,7 +45,7 @@ from elastokin.formats.kc_test_sweeps import sweep_to_test_channels
 from elastokin.mbs.design import build_model
 from elastokin.physics.laws import DirectionLaw
 from elastokin.rig.channels import TEST_CHANNELS
-from elastokin.rig.load_cases import run_load_cases, static_equilibrium
+from elastokin.rig.load_cases import drives, run_drive, static_equilibrium
 from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
 
@@ -140,14 +141,21 @@ def real_suspension_model(suspension: Suspension, seed: int | None = None):
     return build_model(real_suspension_variant(suspension, seed))
 
 
-def run_real_suspension(suspension: Suspension, seed: int | None = None) -> list[Sweep]:
-    """Every load case of the config's rig on the synthetic real suspension."""
-    return run_load_cases(real_suspension_model(suspension, seed), "test")
+def run_real_suspension(suspension: Suspension, seed: int | None = None,
+                        progress: Callable[[str], None] = lambda msg: None) -> list[Sweep]:
+    """Every load case of the config's rig on the synthetic real suspension (``progress``
+    is told of each load case before it runs)."""
+    model = real_suspension_model(suspension, seed)
+    sweeps = []
+    for drive in drives(model.suspension, None, model.suspension.kinematic):
+        progress(f"synthetic real suspension: {drive.load_case}")
+        sweeps.append(run_drive(model, "test", drive))
+    return sweeps
 
 
 def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
-                        sweeps: list[Sweep] | None = None,
-                        seed: int | None = None) -> list[Path]:
+                        sweeps: list[Sweep] | None = None, seed: int | None = None,
+                        progress: Callable[[str], None] = lambda msg: None) -> list[Path]:
     """Run the real suspension on the rig and write one K&C test CSV per load case into
     ``folder`` (default: ``kc_test.folder`` beside the config). Returns the paths."""
     from elastokin.formats.kc_test import write_kc_test
@@ -157,7 +165,7 @@ def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
     folder = Path(folder) if folder is not None else Path(s.source).parent / s.kc_test.folder
     folder.mkdir(parents=True, exist_ok=True)
     seed = _seed(s, seed)
-    sweeps = sweeps if sweeps is not None else run_real_suspension(s, seed)
+    sweeps = sweeps if sweeps is not None else run_real_suspension(s, seed, progress)
     rng = np.random.default_rng([seed, 1])  # independent of the CMM noise stream
     paths = []
     for sw in sweeps:
