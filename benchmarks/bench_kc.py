@@ -14,11 +14,21 @@ Both give the same curve (checked here). Best of ``--repeat`` runs.
 
 End to end (issue 17), the commands a user runs, as subprocesses: ``elastokin --help``
 (``help_s``), ``elastokin kc`` on the case study into a new folder (``kc_cold_s``: no cache)
-and again into the same folder (``kc_warm_s``: identification and fit reused), ``--models
-initial,identified`` (``kc_no_fit_s``), and the charts of a run (``charts_s``); the machine's
-load average beside them. Prints the figures and writes them to
-``benchmarks/results/bench_kc.json``. Targets: ms_per_point <= 0.3 and at least 5x below
-ms_per_point_naive (issue 2); kc cold <= 10 s, warm <= 3 s, help <= 0.5 s (issue 17).
+and again into the same folder (``kc_warm_s``: identification, fit and load cases reused),
+``--models initial,identified`` (``kc_no_fit_s``), and the charts of a run (``charts_s``);
+the machine's load average beside them.
+
+The stiffness fit (issue 17), alone, in a subprocess each: today's (exact sensitivities,
+maximum likelihood) and that of an earlier release (``--baseline-rev``, default the last
+commit with finite-difference Jacobians and reweighting passes, exported with ``git
+archive``; ``--baseline-rev none`` skips it): wall time ``fit_s``, CPU time of the process
+and its workers ``fit_cpu_s``, model runs, and ``model_run_equivalents`` = fit CPU time / CPU
+time of one plain run of the test's load cases on the same model (same run, same machine).
+
+Prints the figures and writes them to ``benchmarks/results/bench_kc.json``. Targets:
+ms_per_point <= 0.3 and at least 5x below ms_per_point_naive (issue 2); kc cold <= 10 s,
+warm <= 3 s, help <= 0.5 s, charts <= 1 s, the fit >= 10x fewer model-run equivalents than
+the baseline (issue 17).
 """
 
 from __future__ import annotations
@@ -87,6 +97,71 @@ def end_to_end(config: str) -> dict:
     return figures
 
 
+#: the last commit whose stiffness fit used finite-difference Jacobians (541 model runs)
+BASELINE_REV = "20eb699"
+#: the fit of one release, timed in a subprocess (the same script for both: argv config)
+FIT_SCRIPT = r"""
+import dataclasses, json, resource, sys, time
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.design import build_model
+from elastokin.rig.comparison import rig_for_test
+from elastokin.rig.load_cases import run_load_cases
+from elastokin.studies import kc_job
+s = load_suspension(sys.argv[1])
+test, _ = kc_job.test_data(s)
+v = kc_job.preloads(kc_job.model_variants(s, kc_job.geometry(s)))["identified"]
+rig = rig_for_test(test, v.suspension.rig)
+model = build_model(dataclasses.replace(v, suspension=dataclasses.replace(v.suspension,
+                                                                          rig=rig)))
+run_load_cases(model, "plain")
+t = time.process_time(); run_load_cases(model, "plain"); run_cpu = time.process_time() - t
+def cpu():
+    a, b = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
+    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
+c0, w0 = cpu(), time.perf_counter()
+fit = kc_job.fit(s, v, test)
+wall, fit_cpu = time.perf_counter() - w0, cpu() - c0
+passes = getattr(fit, "passes", len(fit.settings.get("reweighting", [])) + 1)
+print(json.dumps({"fit_s": wall, "fit_cpu_s": fit_cpu, "fit_model_runs": fit.evaluations,
+                  "passes": passes, "plain_run_cpu_s": run_cpu,
+                  "model_run_equivalents": fit_cpu / run_cpu,
+                  "values": {p.bushing + "." + p.name: p.value for p in fit.parameters}}))
+"""
+
+
+def fit_figures(root: Path, config: Path) -> dict:
+    """The fit of the code in ``root`` on ``config``, in a subprocess (FIT_SCRIPT)."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, PYTHONPATH=str(root))
+    out = subprocess.run([sys.executable, "-c", FIT_SCRIPT, str(config)], cwd=root, env=env,
+                         check=True, capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def fit_comparison(baseline_rev: str | None) -> dict:
+    """Today's fit and the baseline release's, in one run (see the module docstring)."""
+    import subprocess
+    import tempfile
+
+    config = Path("configs") / "pseudo_mcpherson.yaml"
+    result = {"today": fit_figures(ROOT, ROOT / config)}
+    if baseline_rev:
+        with tempfile.TemporaryDirectory() as tmp:
+            archive = subprocess.run(["git", "archive", baseline_rev], cwd=ROOT,
+                                     check=True, capture_output=True).stdout
+            subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+            result["baseline"] = {"rev": baseline_rev,
+                                  **fit_figures(Path(tmp), Path(tmp) / config)}
+        b, t = result["baseline"], result["today"]
+        result["model_run_equivalents_ratio"] = (b["model_run_equivalents"]
+                                                 / t["model_run_equivalents"])
+        result["fit_s_ratio"] = b["fit_s"] / t["fit_s"]
+    return result
+
+
 def best_of(fn, repeat: int) -> tuple[float, object]:
     best, out = float("inf"), None
     for _ in range(repeat):
@@ -101,6 +176,8 @@ def main() -> None:
     ap.add_argument("--config", default=str(ROOT / "configs" / "pseudo_mcpherson.yaml"))
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_kc.json"))
+    ap.add_argument("--baseline-rev", default=BASELINE_REV,
+                    help="git revision whose stiffness fit is the baseline ('none': skip)")
     args = ap.parse_args()
 
     s = load_suspension(args.config)
@@ -142,6 +219,8 @@ def main() -> None:
     }
     result["meets_targets"] = bool(result["ms_per_point"] <= 0.3 and result["speedup"] >= 5.0)
     result["end_to_end"] = end_to_end(args.config)
+    result["stiffness_fit"] = fit_comparison(None if args.baseline_rev == "none"
+                                             else args.baseline_rev)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"model build        {result['build_ms']:8.2f} ms")
@@ -158,6 +237,15 @@ def main() -> None:
     print(f"kc warm (cache)     {e['kc_warm_s']:8.2f} s (target <= 3)")
     print(f"kc --models initial,identified {e['kc_no_fit_s']:8.2f} s")
     print(f"charts              {e['charts_s']:8.2f} s (target <= 1)")
+    f = result["stiffness_fit"]
+    for name, v in (("fit (today)", f["today"]), ("fit (baseline)", f.get("baseline"))):
+        if v:
+            print(f"{name:<19} {v['fit_s']:8.2f} s wall, {v['fit_cpu_s']:.2f} s CPU, "
+                  f"{v['fit_model_runs']} model runs, {v['passes']} passes, "
+                  f"{v['model_run_equivalents']:.1f} model-run equivalents")
+    if "model_run_equivalents_ratio" in f:
+        print(f"fit: {f['model_run_equivalents_ratio']:.1f}x fewer model-run equivalents "
+              f"than {f['baseline']['rev']} (target >= 10), {f['fit_s_ratio']:.1f}x faster")
     print(f"written to {args.out}")
 
 
