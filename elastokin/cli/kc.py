@@ -31,16 +31,19 @@ from elastokin.errors import ElastokinError
 @click.option("--refit", is_flag=True,
               help="Recompute the identification and the stiffness fit even when the "
                    "previous results in --out hold them for the same inputs (their cache).")
+@click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
+              "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
-       refit: bool, quiet: bool) -> None:
+       refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
 
     Writes kc.csv (one row per model, load case and step; units in column names),
     summary.json (characteristics, errors against the test, Table-3 style bushing
-    deflections, provenance), the charts (PNG + SVG) and a self-contained report.html.
+    deflections, provenance), the charts (PNG; --svg: also SVG) and a self-contained
+    report.html.
     """
     from tqdm import tqdm
 
@@ -70,7 +73,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                 run = run_kc(suspension, progress, bar.set_description_str, chosen, cache)
                 progress("writing results")
                 run.add_warnings(log.messages)  # into summary.json
-                summary = write_kc_results(run, tmp)
+                summary = write_kc_results(run, tmp, svg)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:

@@ -24,13 +24,15 @@ if TYPE_CHECKING:
     from elastokin.studies.kc_job import KCRun
 
 def config_provenance(s) -> dict:
-    """Versions, config file and its SHA-256, units: carried by every result file."""
+    """Versions, the config file and its SHA-256, the rig file (None: the config's own rig
+    section) and its SHA-256, units: carried by every result file."""
     return {
         "elastokin_version": __version__,
         "exudyn_version": exudyn_version(),
         "config_file": str(s.source),
-        "config_sha256": s.sha256,
-        "rig_file": s.rig_source or None,  # None: the config's own rig section
+        "config_sha256": s.config_sha256,
+        "rig_file": s.rig_source or None,
+        "rig_sha256": s.rig_sha256,
         "units": {"length": "mm", "force": "N", "torque": "N*mm", "angle": "deg"},
     }
 
@@ -46,6 +48,7 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
             fh.write(f"# {key}: {header[key]}\n")
         if header.get("rig_file"):
             fh.write(f"# rig_file: {header['rig_file']}\n")
+            fh.write(f"# rig_sha256: {header['rig_sha256']}\n")
         fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable\n")
         writer = csv.writer(fh, lineterminator="\n")
         writer.writerow(["model", "load_case", "step", "branch", *names])
@@ -167,9 +170,10 @@ def write_config(path: Path, config: dict, header: str) -> None:
     Path(path).write_text(lines + text)
 
 
-def write_kc_results(run: KCRun, folder: Path) -> dict:
+def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
-    (when there are), the charts, summary.json and report.html. Returns the summary."""
+    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
+    Returns the summary."""
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
 
@@ -182,7 +186,7 @@ def write_kc_results(run: KCRun, folder: Path) -> dict:
         files += ["identification.json", "identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
-    charts = kc_charts(sweeps, folder, prov, run.errors)
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg)
     files += [p.name for p in charts] + ["report.html"]
     summary = summary_dict(run, files)
     write_summary(folder / "summary.json", summary)
