@@ -164,8 +164,8 @@ def test_identified_joints_within_0_3_mm_of_the_truth(ident):
 
 
 def test_paper_check_joints_at_measured_locations(ident):
-    """[7]: the identified model's static equilibrium puts every joint where it was
-    measured (solver tolerance 1e-8: deviations of 1e-8 mm)."""
+    """The paper's check (its section 5): the identified model's static equilibrium puts
+    every joint where it was measured (solver tolerance 1e-8: deviations of 1e-8 mm)."""
     assert ident.verification_max_deviation_mm <= 0.05
     assert ident.verification_max_deviation_mm < 1e-5
 

@@ -100,10 +100,13 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
     """Identify the joint locations from CMM data (the reference paper's method).
 
     Reads the parts measured alone and the assembled marks, finds every part's pose, and
-    writes the identified model as a config that `elastokin kc` loads (identified.yaml), the
-    model built from the parts alone (initial.yaml), identification.json and a readable
-    identification.txt. With --stiffness, also the bushing-stiffness identification against
-    the K&C test data (identified_stiffness.yaml: the identified model with the fitted laws).
+    writes the identified model as a config that `elastokin kc` loads (identified.yaml: its
+    model labelled 'identified', with the config's kc_test and references, so that kc
+    compares it with the test), the model built from the parts alone (initial.yaml),
+    identification.json and a readable identification.txt (equation numbers of the paper;
+    joints identified beyond their clearance dL_max flagged and warned about). With
+    --stiffness, also the bushing-stiffness identification against the K&C test data
+    (identified_stiffness.yaml: the identified model with the fitted laws).
     """
     from elastokin.config.loading import load_suspension
     from elastokin.config.variants import ModelVariant
@@ -130,12 +133,13 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
                     say("fitting bushing stiffness to the K&C test data (about a minute)")
                     result = fit(suspension,
                                  ModelVariant("identified", start, design_state(start)), test)
-                files = write_identification_results(tmp, ident, result, config_path)
+                files = write_identification_results(tmp, ident, result, config_path,
+                                                     out_dir)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
-    log.echo()
+    log.echo(ident.all_warnings)
     if not quiet:
         click.echo(identification_table(ident))
         if result is not None:

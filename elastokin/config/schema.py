@@ -462,6 +462,7 @@ class SuspensionFile(StrictModel):
 
     elastokin: Literal[1]
     name: str
+    label: str = Field("initial", pattern=r"^[A-Za-z][A-Za-z0-9_]*$")  # the model's, README
     units: Units
     frame: Frame
     side: Literal["left", "right"]

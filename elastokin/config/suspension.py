@@ -194,6 +194,7 @@ class Suspension:
     measurements: MeasurementsSpec | None = None
     kc_test: KCTestSpec | None = None
     rig_source: str = ""  # a rig file given apart from the config ("": the config's rig)
+    label: str = "initial"  # the model's label in results (the config's ``label``)
     config_sha256: str = ""  # "": the same as sha256
     rig_sha256: str | None = None
 
@@ -351,6 +352,7 @@ class Resolver:
         """
         s = self.spec
         self.check_names()
+        self.check_label()
         for name, p in s.parts.items():
             if p.centre_of_mass is not None:
                 self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
@@ -400,7 +402,8 @@ class Resolver:
             joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
             springs=tuple(springs), design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
-            kc_test=s.kc_test, config_sha256=config_sha256, rig_sha256=rig_sha256,
+            kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
+            rig_sha256=rig_sha256,
         )
 
     def springs(self) -> list[Spring]:
@@ -416,6 +419,17 @@ class Resolver:
                 Spring(name, parts, seats, sp.rate_N_per_mm, sp.preload_N, sp.free_length_mm)
             )
         return springs
+
+    def check_label(self) -> None:
+        """The model's ``label`` is not that of another model of a K&C run."""
+        s = self.spec
+        if s.label == "test" or s.label.endswith("_kinematic"):
+            raise self.fail("label", f"'{s.label}' is the label of another model of a run "
+                            "(test, <label>_kinematic)")
+        if s.label == "identified_stiffness" and s.kc_test is not None and \
+                s.kc_test.stiffness_identification.enabled:
+            raise self.fail("label", "'identified_stiffness' is the stiffness fit's model: set "
+                            "kc_test.stiffness_identification.enabled: false in its config")
 
     def check_design(self, bushings: list[Bushing]) -> None:
         """The ``design`` section agrees with the springs' and bushings' own preloads."""

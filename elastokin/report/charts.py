@@ -28,6 +28,7 @@ STYLE = {
     "initial": {"color": "tab:blue", "linestyle": "-"},
     "identified": {"color": "tab:red", "linestyle": "-"},
     "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
+    "identified_kinematic": {"color": "tab:red", "linestyle": ":"},
     "identified_stiffness": {"color": "tab:green", "linestyle": "--"},
 }
 #: number formats of the legend by unit: (static value, RMS error)
@@ -149,6 +150,7 @@ class ChartCanvas:
                 artist.remove()
             if a.get_legend() is not None:
                 a.get_legend().remove()
+            a.set_prop_cycle(None)  # colours of unstyled models from the start
             a.set_title("")
             a.set_xlabel("")
             a.set_ylabel("")

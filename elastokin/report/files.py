@@ -10,11 +10,13 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elastokin.config.frozen import plain_data, thaw
 from elastokin.report.text import identification_table
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
@@ -124,7 +126,13 @@ def identification_dict(ident, prov: dict) -> dict:
                 "initial_mm": "joint centre from the parts measured alone (housing centre of "
                               "a bolted side)",
                 "identified_mm": "joint centre from the assembled measurement; for a bushing "
-                                 "the inner-sleeve centre B* [26]",
+                                 "the inner-sleeve centre B* (eq. (26))",
+                "clearance_shift_mm": "the part of the shift a clearance bounds (a bushing: "
+                                      "normal to its housing axis), against max_shift_mm = "
+                                      "dL_max (eq. (1); null: no clearance given); "
+                                      "exceeds_clearance flags it (and a warning)",
+                "equations": "eq. (n): equation n of Meissonnier et al. (2006), Proc. IMechE "
+                             "Part D 220",
                 "deflection_mm_deg": "bushing deflection at static equilibrium, part-2 sleeve "
                                      "relative to part 1, bushing frame (x y z mm, rx ry rz "
                                      "deg)",
@@ -165,7 +173,8 @@ def write_config(path: Path, config: dict, header: str) -> None:
     """A config dict as YAML, with a comment header (units, provenance)."""
     import yaml
 
-    text = yaml.safe_dump(config, sort_keys=False, default_flow_style=None, width=100)
+    text = yaml.safe_dump(plain_data(config), sort_keys=False, default_flow_style=None,
+                          width=100)
     lines = "".join(f"# {ln}\n" for ln in header.splitlines())
     Path(path).write_text(lines + text)
 
@@ -194,27 +203,59 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     return summary
 
 
-def write_identification_results(folder: Path, ident, fit, config_path: Path) -> list[str]:
+def written_config(config: dict, suspension, label: str, folder: Path,
+                   fit_again: bool = True) -> dict:
+    """A config that ``elastokin identify`` writes into ``folder``: the model's ``label``
+    (what ``elastokin kc`` calls the model), the references, and the config's ``kc_test``
+    section with its folder relative to ``folder`` (so that ``elastokin kc`` on it overlays the
+    test, as on the config). ``fit_again`` False: the stiffness fit is switched off (the
+    config of the fitted model)."""
+    out = {"elastokin": config["elastokin"], "name": config["name"], "label": label,
+           **{k: v for k, v in config.items() if k not in ("elastokin", "name", "label")}}
+    kc_test = suspension.raw.get("kc_test")
+    if kc_test is not None:
+        kc_test = thaw(kc_test)
+        here = os.path.abspath(Path(suspension.source).parent / kc_test.get("folder", "."))
+        there = os.path.abspath(folder)
+        # relative, as a config's own paths are, unless the two share no folder but the root
+        common = os.path.commonpath([here, there])
+        kc_test["folder"] = here if common == os.path.dirname(common) else os.path.relpath(
+            here, there)
+        if not fit_again:
+            kc_test.setdefault("stiffness_identification", {})["enabled"] = False
+        out["kc_test"] = kc_test
+    return out
+
+
+def write_identification_results(folder: Path, ident, fit, config_path: Path,
+                                 final_folder: Path | None = None) -> list[str]:
     """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
-    ``elastokin kc`` loads), identification.json / .txt and, with a stiffness ``fit``,
-    identified_stiffness.yaml and stiffness_identification.json / .txt. Returns the names."""
+    ``elastokin kc`` loads: :func:`written_config`), identification.json / .txt and, with a
+    stiffness ``fit``, identified_stiffness.yaml and stiffness_identification.json / .txt.
+    ``final_folder``: where the files end up (the configs' paths are relative to it; default
+    ``folder``). Returns the names."""
     from elastokin.identification.stiffness_results import stiffness_config
 
-    prov = config_provenance(ident.suspension)
+    s = ident.suspension
+    where = final_folder or folder
+    prov = config_provenance(s)
     header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
               f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
               "lengths mm, forces N, torques N*mm, angles deg; config frame.")
-    write_config(folder / "identified.yaml", ident.identified_config,
+    write_config(folder / "identified.yaml",
+                 written_config(ident.identified_config, s, "identified", where),
                  header.format(what="identified model (joints from the assembled "
                                "measurement, bushing deflections at equilibrium)"))
-    write_config(folder / "initial.yaml", ident.initial_config,
+    write_config(folder / "initial.yaml", written_config(ident.initial_config, s, "initial",
+                                                         where),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
     write_identification(folder, ident, prov)
     files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
     if fit is not None:
         write_config(folder / "identified_stiffness.yaml",
-                     stiffness_config(ident.identified_config, fit),
+                     written_config(stiffness_config(ident.identified_config, fit), s,
+                                    "identified_stiffness", where, fit_again=False),
                      header.format(what="identified model with the bushing laws fitted to "
                                    "the K&C test data"))
         files += ["identified_stiffness.yaml",
