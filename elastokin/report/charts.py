@@ -179,6 +179,27 @@ def legend_corner(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int)
     return min(counts, key=counts.get)  # first of the least crowded, in the order above
 
 
+def chart_caption(spec: ChartSpec, with_test: bool) -> str:
+    """What a chart shows, in a sentence or three (the report's figure caption)."""
+    lc = LOAD_CASES[spec.load_case]
+    y = channel(spec.y).label.split(" [")[0]
+    x = (lc.label if spec.x == lc.input else channel(spec.x).label).split(" [")[0]
+    models = "every model and the test" if with_test else "every model"
+    if spec.stroke_only:
+        what = (f"{y} against {x} over the travel stroke (rebound to bump), {models}; the "
+                "legend gives each curve's steer amplitude")
+    elif spec.relative:
+        what = (f"{y} against {x} ({lc.meaning}), {models}, each curve as its change from "
+                "its static state (the static values in the legend)")
+    else:
+        what = f"{y} against {x} ({lc.meaning}), {models}, every measured row"
+    if with_test:
+        what += (" and each model's RMS error against the test. Lower panel: model minus "
+                 "test at the test points (changes from the static state), what the RMS "
+                 "error is taken over")
+    return f"{spec.title}: {what}."
+
+
 def axis_label(load_case: str, column: str) -> str:
     """A column's axis label in the unit charts show: the load case's input label for its
     input, else the channel's."""

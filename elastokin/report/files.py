@@ -8,6 +8,7 @@ file and the solver settings. Units are in the column names (mm, N, N*mm, deg).
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 import math
 import os
@@ -82,8 +83,12 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         if r is not None:
             entry["reference"] = r.model_dump(exclude_none=True)
         bushings[name] = entry
+    s = run.suspension
     return {
-        **config_provenance(run.suspension),
+        **config_provenance(s),
+        "config_name": s.name,
+        "input_files": input_files(run),
+        "test_data_synthetic": s.kc_test is not None and s.kc_test.synthetic is not None,
         "solver": {label: m.solver for label, m in run.models.items()},
         "models": {label: m.summary() for label, m in run.models.items()},
         "errors": run.errors,
@@ -111,6 +116,30 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
     }
 
 
+def _sha256(path: str) -> str | None:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def input_files(run: KCRun) -> list[dict]:
+    """Every file the run read, with its role and SHA-256 (None: no longer readable): the
+    config, the rig file, the K&C test files and the CMM files."""
+    s = run.suspension
+    out = [{"role": "config", "file": str(s.source), "sha256": s.config_sha256}]
+    if s.rig_source:
+        out.append({"role": "rig file", "file": s.rig_source, "sha256": s.rig_sha256})
+    test = run.models.get("test")
+    for f in (test.solver.get("files", []) if test is not None else []):
+        out.append({"role": "K&C test", "file": str(f), "sha256": _sha256(f)})
+    if run.identification is not None:
+        for part, f in run.identification.sources.items():
+            role = "CMM, assembled marks" if part == "assembly" else f"CMM, part {part}"
+            out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
+    return out
+
+
 def write_summary(path: Path, summary: dict) -> None:
     path.write_text(json.dumps(summary, indent=2, sort_keys=False) + "\n")
 
@@ -118,9 +147,14 @@ def write_summary(path: Path, summary: dict) -> None:
 def identification_dict(ident, prov: dict) -> dict:
     """``identification.json``: the contract keys (parts, joints, verification) plus details
     and provenance. Vehicle (config) frame, mm, deg."""
+    body = ident.to_json()
+    marks = ident.suspension.measurements.parts
+    for part, p in body["parts"].items():
+        k = p["dropped_mark"]
+        p["dropped_mark_label"] = None if k is None else marks[part].marks[k]
     return {**prov,
             "eps_mm": ident.suspension.measurements.eps_mm,
-            **ident.to_json(),
+            **body,
             "conventions": {
                 "shift_mm": "identified - initial joint location, config frame, loaded state",
                 "initial_mm": "joint centre from the parts measured alone (housing centre of "
@@ -142,10 +176,12 @@ def identification_dict(ident, prov: dict) -> dict:
             }}
 
 
-def write_identification(folder: Path, ident, prov: dict) -> None:
-    (folder / "identification.json").write_text(
-        json.dumps(identification_dict(ident, prov), indent=2) + "\n")
+def write_identification(folder: Path, ident, prov: dict) -> dict:
+    """identification.json and .txt; returns the JSON's content."""
+    doc = identification_dict(ident, prov)
+    (folder / "identification.json").write_text(json.dumps(doc, indent=2) + "\n")
     (folder / "identification.txt").write_text(identification_table(ident))
+    return doc
 
 
 def stiffness_summary(fit) -> dict:
@@ -190,8 +226,9 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     sweeps = [sw for m in run.models.values() for sw in m.sweeps]
     write_kc_csv(folder / "kc.csv", sweeps, prov)
     files = ["kc.csv", "summary.json"]
+    ident = None
     if run.identification is not None:
-        write_identification(folder, run.identification, prov)
+        ident = write_identification(folder, run.identification, prov)
         files += ["identification.json", "identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
@@ -199,7 +236,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     files += [p.name for p in charts] + ["report.html"]
     summary = summary_dict(run, files)
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts)
+    write_report(folder / "report.html", summary, charts, ident)
     return summary
 
 
