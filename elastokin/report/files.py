@@ -338,16 +338,17 @@ def write_json(path: Path, doc: dict) -> None:
 
 
 def write_doe_results(out_dir: Path, study, records: list[dict], nominal: dict,
-                      solver: dict, run: dict) -> dict:
-    """A DOE study's doe.json (statistics, sensitivity, failures, definitions, provenance),
-    doe_run.json (where and how long it ran: ``run``) and charts. Returns doe.json's content."""
+                      solver: dict, run: dict, svg: bool = False) -> dict:
+    """A DOE study's doe.json (statistics, sensitivity, warnings, failures, definitions,
+    provenance), doe_run.json (where and how long it ran: ``run``) and charts (PNG; with
+    ``svg`` also SVG). Returns doe.json's content."""
     from elastokin.report.doe_charts import doe_charts
     from elastokin.studies.doe_runner import STORE
     from elastokin.studies.doe_statistics import DEFINITIONS, aggregate
 
     body = aggregate(study, records, nominal)
     prov = config_provenance(study.suspension)
-    files = [p.name for p in doe_charts(body, records, out_dir, prov)]
+    files = [p.name for p in doe_charts(body, records, out_dir, prov, svg)]
     doc = {**prov, "solver": solver, **body,
            "files": ["doe.json", STORE, "doe_run.json", *files], "definitions": DEFINITIONS}
     write_json(out_dir / "doe.json", doc)

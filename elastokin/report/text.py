@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from elastokin.rig.channels import CHARACTERISTICS
+
 
 def kc_table(summary: dict, out_dir: Path) -> str:
     """The K&C run's summary: provenance, static bushing table, characteristics, errors and
@@ -127,7 +129,7 @@ def doe_table(doc: dict, out_dir: Path) -> str:
     s = doc["steer_amplitude_deg"]
     lines = [f"DOE of {doc['config_file']}: {doc['samples']} samples ({doc['method']}, seed "
              f"{doc['seed']}, load cases {doc['load_cases']}), {doc['failed']} failed", ""]
-    lines.append(f"  {'characteristic':<46}{'nominal':>10}{'mean':>10}{'std':>10}"
+    lines.append(f"  {'characteristic':<48}{'nominal':>10}{'mean':>10}{'std':>10}"
                  f"{'p05':>10}{'p95':>10}")
     nominal = doc.get("nominal") or {}
 
@@ -135,12 +137,16 @@ def doe_table(doc: dict, out_dir: Path) -> str:
         return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
 
     for name, st in doc["characteristics"].items():
-        lines.append(f"  {name:<46}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
+        c = CHARACTERISTICS.get(name)
+        text = name if c is None else f"{c.label} [{c.unit}]"
+        lines.append(f"  {text:<48}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
                      f"{num(st['p05'])}{num(st['p95'])}")
     sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
     if sens and s["n"]:
         ranked = sorted(sens, key=lambda k: -sens[k])
-        lines += ["", f"  steer-amplitude sensitivity ({doc['sensitivity_method']}): "
+        what = ("share of the variance" if doc["sensitivity_method"] == "src"
+                else "R^2 per joint, not shares: see the warning")
+        lines += ["", f"  steer-amplitude sensitivity ({what}): "
                   + ", ".join(f"{k} {sens[k]:.2f}" for k in ranked)]
     lines += ["", f"Results in {out_dir}/: " + ", ".join(doc["files"])]
     return "\n".join(lines)
