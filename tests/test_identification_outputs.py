@@ -106,7 +106,9 @@ def test_written_configs_keep_label_test_data_and_references(identified, case):
     assert (out / s.kc_test.folder).resolve() == (CASE.parent / case.kc_test.folder).resolve()
     assert model_labels(s) == ["identified", "identified_kinematic"]
     assert "identified_stiffness" in select_models(s, None)
-    assert load_suspension(out / "initial.yaml").label == "initial"
+    initial = load_suspension(out / "initial.yaml")
+    assert initial.label == "initial" and initial.kc_test is not None
+    assert "identified_stiffness" not in select_models(initial, None)  # the fit: identified
 
 
 def test_kc_on_the_identified_config_overlays_the_test(identified, tmp_path):

@@ -246,7 +246,8 @@ def written_config(config: dict, suspension, label: str, folder: Path,
     (what ``elastokin kc`` calls the model), the references, and the config's ``kc_test``
     section with its folder relative to ``folder`` (so that ``elastokin kc`` on it overlays the
     test, as on the config). ``fit_again`` False: the stiffness fit is switched off (the
-    config of the fitted model)."""
+    initial model's config: the fit belongs to the identified model; the fitted model's
+    config: its laws are fitted)."""
     out = {"elastokin": config["elastokin"], "name": config["name"], "label": label,
            **{k: v for k, v in config.items() if k not in ("elastokin", "name", "label")}}
     kc_test = suspension.raw.get("kc_test")
@@ -284,7 +285,7 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
                  header.format(what="identified model (joints from the assembled "
                                "measurement, bushing deflections at equilibrium)"))
     write_config(folder / "initial.yaml", written_config(ident.initial_config, s, "initial",
-                                                         where),
+                                                         where, fit_again=False),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
     write_identification(folder, ident, prov)
