@@ -299,7 +299,7 @@ def stiffness_section(fit: dict) -> list[str]:
             for k, v in fit["parameters"].items()]
     out = [note("Model <b>identified_stiffness</b>: per fitted bushing F(u) = scale &middot; "
                 "f<sub>config</sub>(u) &middot; (1 + cubic &middot; u&sup2;), fitted to the test "
-                "data by weighted least squares (details, correlations and residuals in "
+                "data (method, correlations and residuals in "
                 f"<code>{esc(fit.get('file', ''))}</code>). Condition number "
                 f"{num(fit.get('condition_number'), '.3g')}."),
            table(["parameter", "value", "unit", "95 % interval", "determined"], rows,
