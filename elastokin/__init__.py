@@ -10,9 +10,14 @@ The public Python API (the CLI is a thin layer over it)::
     run = ek.run_kc(s)                                            # the whole K&C job
     ek.write_kc_results(run, Path("results/mine"))                # kc.csv, summary.json, ...
 
+    moved = ek.with_hardpoints(s, {"J3": s.hardpoints["J3"] + [0, 0, 5]})  # a new one
     model = ek.build_model(ek.kinematic(s))                       # one model variant
     sweeps = ek.run_load_cases(model, "kinematic")                # every load case of the rig
     ident = ek.identify_geometry(s)                               # the paper's method
+
+A resolved :class:`Suspension` is read-only: ``s.hardpoints["J3"] = ...`` raises and names
+``with_hardpoints``; ``copy.deepcopy(s.raw)`` is the config mapping to edit (numpy numbers
+welcome) and ``suspension_from_dict`` loads it.
 
 Names are imported on first use, so ``import elastokin`` stays light (no Exudyn, no
 matplotlib until a model is built or a chart drawn).
@@ -35,7 +40,9 @@ _API = {
     "ModelVariant": "elastokin.config.variants",
     "DesignState": "elastokin.config.variants",
     "kinematic": "elastokin.config.variants",
+    "with_hardpoints": "elastokin.config.variants",
     "with_bushing_laws": "elastokin.config.variants",
+    "with_joint_shifts": "elastokin.config.variants",
     # models
     "build_model": "elastokin.mbs.design",
     "design_state": "elastokin.mbs.design",

@@ -8,7 +8,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastokin.report.charts import CHARTS, chart_data, kc_charts
+from elastokin.report.charts import (
+    CHARTS,
+    ChartCanvas,
+    chart_data,
+    draw_chart,
+    kc_charts,
+    save_chart,
+)
 from elastokin.rig.comparison import curve_error_rms, static_value
 from elastokin.rig.sweeps import Sweep
 
@@ -101,6 +108,55 @@ def test_travel_chart_absolute_with_amplitude_rms_and_residual_panel(tmp_path):
     assert "amplitude" in legend and "RMS" in legend and "static" not in legend
     assert data.residuals["identified"]
     paths = kc_charts([test, model], tmp_path, PROV)
-    # only the charts whose columns the sweeps have (no camber, no lateral displacement)
+    # only the charts whose columns the sweeps have (no camber, no lateral displacement); PNG
+    # by default, SVG beside it when asked for
+    assert [p.name for p in paths] == ["steer_vs_travel.png"]
+    (tmp_path / "svg").mkdir()
+    paths = kc_charts([test, model], tmp_path / "svg", PROV, svg=True)
     assert [p.name for p in paths] == ["steer_vs_travel.png", "steer_vs_travel.svg"]
     assert all(p.stat().st_size > 1000 for p in paths)
+    assert paths[1].read_text().lstrip().startswith("<?xml")
+
+
+def _pixels(path):
+    from PIL import Image
+
+    return np.asarray(Image.open(path).convert("RGB"))
+
+
+def test_a_reused_figure_draws_what_a_new_one_draws(tmp_path):
+    """The canvas is reused from chart to chart: a chart drawn after another (other layout,
+    other limits, legend elsewhere) is pixel for pixel the chart drawn on a new canvas."""
+    x, br = _force_path(2000.0, 50.0)
+    lateral = [_lateral("test", 0.2, 2.0e-5), _lateral("identified", 0.19, 1.5e-5)]
+    torque = [_sweep("initial", "aligning_torque", "aligning_torque_Nmm", 50.0 * x, br,
+                     toe_deg=-2.0e-7 * 50.0 * x)]
+    first = chart_data(CHARTS["steer_vs_lateral_force"], lateral)
+    second = chart_data(CHARTS["steer_vs_aligning_torque"], torque)
+    reused = ChartCanvas()
+    for data, name in ((first, "a"), (second, "b"), (first, "c")):
+        save_chart(draw_chart(reused, data, PROV), tmp_path / f"{name}.png")
+    save_chart(draw_chart(ChartCanvas(), second, PROV), tmp_path / "b_new.png")
+    save_chart(draw_chart(ChartCanvas(), first, PROV), tmp_path / "c_new.png")
+    assert np.array_equal(_pixels(tmp_path / "b.png"), _pixels(tmp_path / "b_new.png"))
+    assert np.array_equal(_pixels(tmp_path / "c.png"), _pixels(tmp_path / "c_new.png"))
+    assert np.array_equal(_pixels(tmp_path / "a.png"), _pixels(tmp_path / "c.png"))
+    assert _pixels(tmp_path / "a.png").shape == (990, 1050, 3)  # 7 x 6.6 in at 150 dpi
+
+
+def test_legend_goes_to_the_emptiest_corner():
+    from elastokin.report.charts import legend_corner
+
+    class Axes:  # the limits are all legend_corner reads
+        def get_xlim(self):
+            return (0.0, 1.0)
+
+        def get_ylim(self):
+            return (0.0, 1.0)
+
+    rising = (np.linspace(0, 1, 50), np.linspace(0, 1, 50))  # lower left to upper right
+    assert legend_corner(Axes(), [rising], 4) == "upper left"
+    falling = (np.linspace(0, 1, 50), np.linspace(1, 0, 50))
+    assert legend_corner(Axes(), [falling], 4) == "upper right"
+    high = (np.linspace(0, 1, 50), np.full(50, 0.95))
+    assert legend_corner(Axes(), [high], 4) == "lower left"

@@ -156,7 +156,7 @@ def test_serial_and_local_cluster_give_identical_results(case_path, tmp_path):
     assert d["solver"]["newton_relative_tolerance"] > 0 and len(d["config_sha256"]) == 64
     assert "wheel_rate_N_per_mm" in d["characteristics"]
     for name in ("doe_steer_amplitude", "doe_characteristics", "doe_sensitivity_tornado"):
-        assert (serial / f"{name}.png").stat().st_size > 0 and (serial / f"{name}.svg").exists()
+        assert (serial / f"{name}.png").stat().st_size > 0  # SVG only with --svg
     lines = (serial / "samples.jsonl").read_text().splitlines()
     assert len(lines) == 9 and json.loads(lines[0])["seed"] == 0
 

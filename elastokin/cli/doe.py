@@ -49,7 +49,8 @@ def _check_out(out: Path, store_name: str) -> None:
 @click.option("--method", type=click.Choice(["lhs", "sobol", "mc"]), default="lhs",
               show_default=True,
               help="Sampling of the unit cube: Latin hypercube, scrambled Sobol (use a power "
-                   "of 2 samples) or Monte Carlo.")
+                   "of 2 samples) or Monte Carlo. Sobol and mc studies extend in place when "
+                   "rerun with more --samples; an LHS study does not.")
 @click.option("--seed", type=int, default=0, show_default=True,
               help="Random seed: the samples depend on (seed, method, samples) only.")
 @click.option("--load-cases", type=click.Choice(["all", "travel"]), default="all",
@@ -67,17 +68,23 @@ def _check_out(out: Path, store_name: str) -> None:
               default=None, show_default="results/<config name>_doe",
               help="Folder for samples.jsonl, doe.json, doe_run.json and the charts.")
 @click.option("--restart", is_flag=True,
-              help="Discard the samples already saved in --out instead of resuming.")
+              help="Discard the samples already saved in --out instead of resuming or "
+                   "extending them.")
+@click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
+              "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str,
         rig_path: Path | None, scheduler: str | None, workers: int | None,
-        out_dir: Path | None, restart: bool, quiet: bool) -> None:
+        out_dir: Path | None, restart: bool, svg: bool, quiet: bool) -> None:
     """Tolerance / DOE study of the assembly clearances.
 
     Samples every clearance of 'measurements.joints' within its dL_max, runs the K&C load cases
     on each as-built suspension (on dask.distributed workers), and writes samples.jsonl (one
     record per sample, resumable), doe.json (distributions of steer amplitude and the
     compliance characteristics, joint sensitivity) and histogram and tornado charts.
+
+    Rerun with more --samples to extend a sobol or mc study in place (the samples already
+    run are the first ones of the larger design); a Latin hypercube cannot be extended.
     """
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.text import doe_table
@@ -98,7 +105,7 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
             _check_out(out_dir, STORE)  # before any solving
             suspension = load_suspension_with_rig(config_path, rig_path)
             study = study_mod.make_study(suspension, samples, method, seed, load_cases)
-            doc = _run(study, out_dir, restart, quiet, samples, scheduler, workers, t0)
+            doc = _run(study, out_dir, restart, quiet, scheduler, workers, t0, svg)
         except KeyboardInterrupt:
             click.echo(f"elastokin: interrupted: the finished samples are saved in "
                        f"{out_dir / 'samples.jsonl'}; rerun the same command to resume",
@@ -111,7 +118,7 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
                  if isinstance(exc.filename, str)
                  and Path(exc.filename).is_relative_to(out_dir)
                  else os_error(exc))
-    log.echo()
+    log.echo(doc["warnings"])
     if not quiet:
         click.echo(doe_table(doc, out_dir))
     if doc["failed"]:
@@ -121,21 +128,28 @@ def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str
         sys.exit(EXIT_FAILED_SAMPLES)
 
 
-def _run(study, out_dir: Path, restart: bool, quiet: bool, samples: int,
-         scheduler: str | None, workers: int, t0: float) -> dict:
-    """The study into ``out_dir`` (resumed from its samples.jsonl): doe.json's content."""
+def _run(study, out_dir: Path, restart: bool, quiet: bool, scheduler: str | None,
+         workers: int, t0: float, svg: bool) -> dict:
+    """The study into ``out_dir`` (resumed or extended from its samples.jsonl): doe.json's
+    content."""
     from tqdm import tqdm
 
     from elastokin.report.files import write_doe_results
     from elastokin.studies import doe as study_mod
     from elastokin.studies.doe_runner import STORE, SampleStore, execute
 
+    samples = study.samples
     store = SampleStore(out_dir / STORE, study.header(), restart)
+    store.check_design(study.shifts)
     if restart:
         for old in out_dir.glob("doe*"):
             old.unlink()
     resumed = len(store.records)
-    if resumed and not quiet:
+    if store.extended_from is not None and not quiet:
+        click.echo(f"extending: the {store.extended_from} samples in {out_dir / STORE} are the "
+                   f"first of this {samples}-sample {study.method} design; {resumed} of them "
+                   "saved", err=True)
+    elif resumed and not quiet:
         click.echo(f"resuming: {resumed} of {samples} samples already in "
                    f"{out_dir / STORE}", err=True)
     nominal = study_mod.nominal_characteristics(study)
@@ -146,4 +160,5 @@ def _run(study, out_dir: Path, restart: bool, quiet: bool, samples: int,
         where = execute(study, store, scheduler, workers, bar.update)
     return write_doe_results(out_dir, study, store.ordered(), nominal, solver, {
         "executed_on": where, "samples_evaluated_this_run": pending,
-        "samples_resumed": resumed, "wall_time_s": round(time.perf_counter() - t0, 3)})
+        "samples_resumed": resumed, "extended_from_samples": store.extended_from,
+        "wall_time_s": round(time.perf_counter() - t0, 3)}, svg)

@@ -55,16 +55,19 @@ def progress_bar(stages: int, quiet: bool = False):
 @click.option("--refit", is_flag=True,
               help="Recompute the identification and the stiffness fit even when the "
                    "previous results in --out hold them for the same inputs (their cache).")
+@click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
+              "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
-       refit: bool, quiet: bool) -> None:
+       refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
 
     Writes kc.csv (one row per model, load case and step; units in column names),
     summary.json (characteristics, errors against the test, Table-3 style bushing
-    deflections, provenance), the charts (PNG + SVG) and a self-contained report.html.
+    deflections, provenance), the charts (PNG; --svg: also SVG) and a self-contained
+    report.html.
     """
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
@@ -89,7 +92,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                 run = run_kc(suspension, progress, progress, chosen, cache)
                 progress("writing results")
                 run.add_warnings(log.messages)  # into summary.json
-                summary = write_kc_results(run, tmp)
+                summary = write_kc_results(run, tmp, svg)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
@@ -116,10 +119,13 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
     """Identify the joint locations from CMM data (the reference paper's method).
 
     Reads the parts measured alone and the assembled marks, finds every part's pose, and
-    writes the identified model as a config that `elastokin kc` loads (identified.yaml), the
-    model built from the parts alone (initial.yaml), identification.json and a readable
-    identification.txt. With --stiffness, also the bushing-stiffness identification against
-    the K&C test data (identified_stiffness.yaml: the identified model with the fitted laws).
+    writes the identified model as a config that `elastokin kc` loads (identified.yaml: its
+    model labelled 'identified', with the config's kc_test and references, so that kc
+    compares it with the test), the model built from the parts alone (initial.yaml),
+    identification.json and a readable identification.txt (equation numbers of the paper;
+    joints identified beyond their clearance dL_max flagged and warned about). With
+    --stiffness, also the bushing-stiffness identification against the K&C test data
+    (identified_stiffness.yaml: the identified model with the fitted laws).
     """
     from elastokin.config.loading import load_suspension
     from elastokin.config.variants import ModelVariant
@@ -148,12 +154,13 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
                                  ModelVariant("identified", start, design_state(start)), test,
                                  progress)
                 progress("writing results")
-                files = write_identification_results(tmp, ident, result, config_path)
+                files = write_identification_results(tmp, ident, result, config_path,
+                                                     out_dir)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
-    log.echo()
+    log.echo(ident.all_warnings)
     if not quiet:
         click.echo(identification_table(ident))
         if result is not None:

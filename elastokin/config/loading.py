@@ -13,6 +13,7 @@ import hashlib
 import re
 import types
 import typing
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 
@@ -20,6 +21,7 @@ import yaml
 from pydantic import BaseModel, ValidationError
 
 from elastokin.config.bounds import TOO_MANY_STEPS
+from elastokin.config.frozen import plain_data
 from elastokin.config.schema import RigSpec, SuspensionFile
 from elastokin.config.suspension import Resolver, Suspension
 from elastokin.errors import ConfigError
@@ -285,21 +287,41 @@ def load_suspension(path: str | Path, overrides: dict | None = None) -> Suspensi
     """Load, validate and resolve a suspension config file.
 
     ``overrides`` (optional) is merged over the top-level keys before validation (e.g.
-    ``{"kinematic": True}``); the hash still identifies the file's bytes plus the overrides.
+    ``{"kinematic": True}``); the hashes then identify the file's bytes plus the overrides.
     """
+    return _load(path, overrides)
+
+
+def _digest(text: bytes, overrides: dict | None) -> str:
+    """SHA-256 of a file's bytes and of the overrides merged over it (none: of the bytes)."""
+    h = hashlib.sha256(text)
+    if overrides:
+        h.update(yaml.safe_dump(plain_data(overrides), sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def _load(path: str | Path, overrides: dict | None,
+          rig_file: tuple[str, dict, bytes] | None = None) -> Suspension:
+    """A config file with ``overrides``, and a rig file (path, mapping, bytes) replacing its
+    ``rig`` section: ``sha256`` covers all of them, ``config_sha256`` the file and the
+    overrides, ``rig_sha256`` the rig file."""
     data, text = read_yaml(path)
-    if overrides:
-        data = {**data, **overrides}
-    digest = hashlib.sha256(text)
-    if overrides:
-        digest.update(yaml.safe_dump(overrides, sort_keys=True).encode())
-    return suspension_from_dict(data, str(path), digest.hexdigest())
+    overrides = dict(overrides or {})
+    every = {**overrides, "rig": rig_file[1]} if rig_file is not None else overrides
+    if every:
+        data = {**data, **every}
+    s = suspension_from_dict(data, str(path), _digest(text, every),
+                             config_sha256=_digest(text, overrides),
+                             rig_sha256=None if rig_file is None
+                             else hashlib.sha256(rig_file[2]).hexdigest())
+    return s if rig_file is None else replace(s, rig_source=rig_file[0])
 
 
-def load_rig(path: str | Path) -> dict:
+def read_rig(path: str | Path) -> tuple[dict, bytes]:
     """Read and validate a rig file: the load cases of :class:`RigSpec` as a YAML mapping,
-    either at the top level or under one ``rig:`` key. Errors name the rig file and key."""
-    data, _ = read_yaml(path, "rig file")
+    either at the top level or under one ``rig:`` key; returns the mapping and the file's
+    bytes. Errors name the rig file and key."""
+    data, text = read_yaml(path, "rig file")
     prefix: tuple = ()
     if set(data) == {"rig"}:
         data, prefix = data["rig"], ("rig",)
@@ -310,28 +332,41 @@ def load_rig(path: str | Path) -> dict:
     except ValidationError as err:
         raise ConfigError(format_validation_error(f"{path} (rig file)", err, data, RigSpec,
                                                   prefix)) from None
-    return data
+    return data, text
+
+
+def load_rig(path: str | Path) -> dict:
+    """The validated load cases of a rig file (:func:`read_rig`)."""
+    return read_rig(path)[0]
 
 
 def load_suspension_with_rig(config_path: str | Path, rig_path: str | Path | None,
                              overrides: dict | None = None) -> Suspension:
     """:func:`load_suspension` with the config's ``rig`` section replaced by a rig file
-    (:func:`load_rig`) when ``rig_path`` is given; the config hash then covers the rig too."""
+    (:func:`read_rig`) when ``rig_path`` is given: ``rig_sha256`` is the rig file's hash,
+    ``config_sha256`` still the config's, ``sha256`` covers both."""
     if rig_path is None:
         return load_suspension(config_path, overrides)
-    rig = load_rig(rig_path)
-    s = load_suspension(config_path, {**(overrides or {}), "rig": rig})
-    return replace(s, rig_source=str(rig_path))
+    rig, text = read_rig(rig_path)
+    return _load(config_path, overrides, (str(rig_path), rig, text))
 
 
-def suspension_from_dict(data: dict, source: str = "<dict>", sha256: str = "") -> Suspension:
-    """Validate a config mapping and resolve names, axes and laws (see module docstring)."""
+def suspension_from_dict(data: Mapping, source: str = "<dict>", sha256: str = "", *,
+                         config_sha256: str = "", rig_sha256: str | None = None
+                         ) -> Suspension:
+    """Validate a config mapping and resolve names, axes and laws (see module docstring).
+
+    ``data`` may hold numpy scalars and arrays, tuples and read-only mappings (a
+    suspension's ``raw``): they are taken as the plain YAML types first. ``sha256``: what
+    identifies the inputs (default: the SHA-256 of the mapping as YAML); ``config_sha256`` and
+    ``rig_sha256`` as :class:`~elastokin.config.suspension.Suspension` says."""
+    data = plain_data(data)
     try:
         spec = SuspensionFile.model_validate(data)
     except ValidationError as err:
         raise ConfigError(format_validation_error(source, err, data, SuspensionFile)) from None
     if not sha256:
         sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
-    return Resolver(spec, source).resolve(sha256, data)
+    return Resolver(spec, source).resolve(sha256, data, config_sha256, rig_sha256)
 
 

@@ -461,9 +461,9 @@ class KCTestSpec(StrictModel):
 
 class SuspensionFile(StrictModel):
     """Top-level schema of a suspension config file."""
-
     elastokin: Literal[1]
     name: str
+    label: str = Field("initial", pattern=r"^[A-Za-z][A-Za-z0-9_]*$")  # the model's, README
     units: Units
     frame: Frame
     side: Literal["left", "right"]

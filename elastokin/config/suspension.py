@@ -1,16 +1,24 @@
 """The resolved suspension: a validated config with hardpoint names replaced by coordinates
 (mm, config frame), axes normalised, bushing frames as rotation matrices (columns x, y, z of the
-bushing frame in the config frame) and laws as callables. Frozen, plain data: everything
-downstream works on it.
+bushing frame in the config frame) and laws as callables. Plain data that never changes:
+everything downstream works on it.
+
+Read-only throughout: fields cannot be assigned, mappings (``hardpoints``, ``parts``,
+``raw``) are :class:`~elastokin.config.frozen.FrozenMapping` and arrays are read-only, so a
+change that would be silently ignored raises instead, naming the function that makes a
+changed copy (:mod:`elastokin.config.variants`: ``with_hardpoints``, ``with_bushing_laws``,
+``with_joint_shifts``, ``kinematic``; or ``dataclasses.replace``). Pickling and
+``dataclasses.replace`` keep every part read-only.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import FrozenInstanceError, dataclass, field, fields
 
 import numpy as np
 
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
+from elastokin.config.frozen import FrozenMapping, freeze, readonly
 from elastokin.config.schema import (
     AxisBetween,
     AxisSpec,
@@ -35,9 +43,40 @@ from elastokin.physics.laws import DirectionLaw, law_from_spec
 # ----------------------------------------------------------------------------------------------
 # Resolved model description (plain numbers, no names left to look up)
 
+#: how to change a resolved suspension (the end of the message of a refused assignment)
+HOW_TO_CHANGE = ("make a changed copy with elastokin.config.variants.with_hardpoints("
+                 "suspension, {'J3': [x, y, z]}) (or with_bushing_laws, with_joint_shifts, "
+                 "kinematic, dataclasses.replace), or edit copy.deepcopy(suspension.raw) and "
+                 "load it with elastokin.suspension_from_dict")
+
+
+def _frozen_value(value):
+    """An array field's value made read-only: an array, or a tuple of arrays (None kept)."""
+    if value is None:
+        return None
+    if isinstance(value, tuple):
+        return tuple(readonly(v) for v in value)
+    return readonly(value)
+
+
+class ReadOnlyArrays:
+    """Base of the resolved dataclasses: the fields named in ``array_fields`` are made
+    read-only arrays on construction and again after unpickling (numpy does not pickle the
+    flag)."""
+
+    array_fields: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        for name in self.array_fields:
+            object.__setattr__(self, name, _frozen_value(getattr(self, name)))
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.__post_init__()
+
 
 @dataclass(frozen=True)
-class Joint:
+class Joint(ReadOnlyArrays):
     """An ideal joint. ``frame``: rotation matrix, columns = joint axes in the config frame;
     ``constrained``: 6 flags (translation x y z, rotation x y z) in that frame."""
 
@@ -50,17 +89,19 @@ class Joint:
     offset_mm: float = 0.0
     #: as-built only (virtual CMM): each part's attachment relative to ``position_mm``
     part_shift_mm: tuple[np.ndarray, np.ndarray] | None = None
+    array_fields = ("position_mm", "frame", "part_shift_mm")
 
 
 @dataclass(frozen=True)
-class Link:
+class Link(ReadOnlyArrays):
     name: str
     parts: tuple[str, str]
     points_mm: tuple[np.ndarray, np.ndarray]
+    array_fields = ("points_mm",)
 
 
 @dataclass(frozen=True)
-class Bushing:
+class Bushing(ReadOnlyArrays):
     """6-DOF bushing; ``frame`` columns are its x (radial), y, z (axial) axes in the config frame.
 
     ``laws`` map deflection (mm, deg) to load (N, N*mm) per direction x y z rx ry rz;
@@ -78,16 +119,18 @@ class Bushing:
     #: modelled by its ideal joint (the config's ``kinematic: true``, for every bushing or
     #: this one's); the model is then exact kinematics in this connection
     kinematic: bool = False
+    array_fields = ("position_mm", "frame", "initial_deflection")
 
 
 @dataclass(frozen=True)
-class Spring:
+class Spring(ReadOnlyArrays):
     name: str
     parts: tuple[str, str]
     seats_mm: tuple[np.ndarray, np.ndarray]
     rate_N_per_mm: float
     preload_N: float | None
     free_length_mm: float | None
+    array_fields = ("seats_mm",)
 
     @property
     def installed_length_mm(self) -> float:
@@ -103,11 +146,12 @@ class Spring:
 
 
 @dataclass(frozen=True)
-class Wheel:
+class Wheel(ReadOnlyArrays):
     part: str
     centre_mm: np.ndarray
     spin_axis: np.ndarray  # unit, pointing outboard
     loaded_radius_mm: float
+    array_fields = ("centre_mm", "spin_axis")
 
     @property
     def contact_patch_mm(self) -> np.ndarray:
@@ -119,7 +163,14 @@ class Wheel:
 
 @dataclass(frozen=True)
 class Suspension:
-    """A resolved suspension: everything in mm, N, deg, config frame."""
+    """A resolved suspension: everything in mm, N, deg, config frame; read-only (module
+    docstring).
+
+    ``sha256`` identifies everything the suspension was made from (the config file's bytes,
+    any overrides and a rig file's content): results are cached under it.
+    ``config_sha256`` is the SHA-256 of the config file alone (with overrides given in
+    Python), ``rig_sha256`` that of the rig file (None: the config's own ``rig`` section).
+    """
 
     name: str
     source: str
@@ -143,6 +194,25 @@ class Suspension:
     measurements: MeasurementsSpec | None = None
     kc_test: KCTestSpec | None = None
     rig_source: str = ""  # a rig file given apart from the config ("": the config's rig)
+    label: str = "initial"  # the model's label in results (the config's ``label``)
+    config_sha256: str = ""  # "": the same as sha256
+    rig_sha256: str | None = None
+
+    def __post_init__(self) -> None:
+        hp = self.hardpoints
+        if not (isinstance(hp, FrozenMapping) and all(not v.flags.writeable
+                                                      for v in hp.values())):
+            hp = FrozenMapping({k: readonly(v) for k, v in hp.items()}, HOW_TO_CHANGE)
+        for name, value in (("hardpoints", hp), ("config_sha256",
+                                                 self.config_sha256 or self.sha256)):
+            object.__setattr__(self, name, value)
+        for name in ("parts", "raw"):
+            if not isinstance(getattr(self, name), FrozenMapping):
+                object.__setattr__(self, name, freeze(getattr(self, name), HOW_TO_CHANGE))
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.__post_init__()
 
     @property
     def forward(self) -> np.ndarray:
@@ -163,6 +233,20 @@ class Suspension:
     def left(self) -> np.ndarray:
         """Unit vector pointing to the vehicle's left (ISO 8855 +y), in the config frame."""
         return np.array([0.0, 1.0 if self.frame.y == "left" else -1.0, 0.0])
+
+
+def _refuse_assignment(self, name: str, value=None) -> None:
+    if name in {f.name for f in fields(self)}:
+        raise FrozenInstanceError(f"cannot assign to field '{name}': a resolved Suspension "
+                                  f"is read-only; {HOW_TO_CHANGE}")
+    raise FrozenInstanceError(f"cannot assign to '{name}': a Suspension is read-only")
+
+
+# a frozen dataclass may not define __setattr__ itself: its refusal, with the way to change
+# a suspension in the message, replaces the generated one (object.__setattr__, which
+# dataclasses use to construct, is unaffected)
+Suspension.__setattr__ = _refuse_assignment
+Suspension.__delattr__ = _refuse_assignment
 
 
 
@@ -261,9 +345,14 @@ class Resolver:
                             "(toe and camber are undefined)")
         return spin
 
-    def resolve(self, sha256: str, raw: dict) -> Suspension:
+    def resolve(self, sha256: str, raw: dict, config_sha256: str = "",
+                rig_sha256: str | None = None) -> Suspension:
+        """The resolved suspension; ``sha256`` identifies all its inputs, ``config_sha256``
+        the config alone ("": the same), ``rig_sha256`` a rig file (see :class:`Suspension`).
+        """
         s = self.spec
         self.check_names()
+        self.check_label()
         for name, p in s.parts.items():
             if p.centre_of_mass is not None:
                 self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
@@ -301,19 +390,21 @@ class Resolver:
             raise self.fail("wheel.part", "the wheel cannot be carried by the ground part")
         centre = self.point(w.centre, "wheel.centre")
         spin = self.spin_axis()
-        res = Suspension(
+        # orient the spin axis outboard, whatever sign the file used
+        left = 1.0 if s.frame.y == "left" else -1.0
+        outboard_y = left if s.side == "left" else -left
+        if spin[1] * outboard_y < 0:
+            spin = -spin
+        return Suspension(
             name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
             ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
             wheel=Wheel(wheel_part, centre, spin, w.loaded_radius_mm),
             joints=tuple(joints), links=tuple(links), bushings=tuple(bushings),
             springs=tuple(springs), design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
-            kc_test=s.kc_test,
+            kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
+            rig_sha256=rig_sha256,
         )
-        # orient the spin axis outboard, whatever sign the file used
-        if spin @ res.outboard < 0:
-            object.__setattr__(res.wheel, "spin_axis", -spin)
-        return res
 
     def springs(self) -> list[Spring]:
         springs = []
@@ -328,6 +419,17 @@ class Resolver:
                 Spring(name, parts, seats, sp.rate_N_per_mm, sp.preload_N, sp.free_length_mm)
             )
         return springs
+
+    def check_label(self) -> None:
+        """The model's ``label`` is not that of another model of a K&C run."""
+        s = self.spec
+        if s.label == "test" or s.label.endswith("_kinematic"):
+            raise self.fail("label", f"'{s.label}' is the label of another model of a run "
+                            "(test, <label>_kinematic)")
+        if s.label == "identified_stiffness" and s.kc_test is not None and \
+                s.kc_test.stiffness_identification.enabled:
+            raise self.fail("label", "'identified_stiffness' is the stiffness fit's model: set "
+                            "kc_test.stiffness_identification.enabled: false in its config")
 
     def check_design(self, bushings: list[Bushing]) -> None:
         """The ``design`` section agrees with the springs' and bushings' own preloads."""

@@ -113,7 +113,8 @@ def with_hardpoints(suspension: Suspension, hardpoints: Mapping[str, np.ndarray]
         raise ConfigError(f"{suspension.source}: no hardpoint {', '.join(unknown)}")
     resolver = Resolver(SuspensionFile.model_validate(suspension.raw), suspension.source)
     resolver.hardpoints.update({k: np.asarray(v, float) for k, v in hardpoints.items()})
-    moved = resolver.resolve(suspension.sha256, suspension.raw)
+    moved = resolver.resolve(suspension.sha256, suspension.raw, suspension.config_sha256,
+                             suspension.rig_sha256)
     return dataclasses.replace(moved, rig=suspension.rig, rig_source=suspension.rig_source)
 
 

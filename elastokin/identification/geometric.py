@@ -1,26 +1,31 @@
-"""Geometric identification from CMM data: the reference paper's stages 2 and 3
-(``shared/paper/method.md``; equation numbers in brackets), from the config's ``measurements``.
+"""Geometric identification from CMM data: the reference paper's sections 2-4, from the
+config's ``measurements``. Numbers in brackets are the equation numbers of the paper itself
+(Meissonnier et al., Proc. IMechE Part D 220, 2006); in the text extracted from its PDF the
+label "(20)" is out of place: by the equations' order (20) is the z-x-z Euler angles, (21)
+the terms a_ij of the bushing frame they are computed from.
 
-1. Every part measured alone gives its 4 marks and its joint features in its own frame; the
-   ground part is measured in the config (vehicle) frame, so its pose fixes the CMM frame.
-2. The marks measured again on the assembled, loaded suspension (unordered, maybe one wrong)
-   give every part's pose [8-12].
+1. Every part measured alone gives its 4 marks [6] and joint features [3-5] in its own frame;
+   the ground part is measured in the vehicle frame, so its pose fixes the CMM frame.
+2. The marks measured again on the assembled, loaded suspension [7] (unordered, maybe one
+   wrong) give every part's pose: ordering [8-10] (a wrong point dropped, the text after
+   (10)), then the absolute-orientation fit [11-12].
 3. Joint features in the vehicle frame at the loaded state [19]. Bushings: the outer sleeve
-   (exactly measured) gives the bushing frame; the inner sleeve is bolted, so only its housing
-   centre and axis are known, within dL_max [1].
+   (exactly measured) gives the bushing frame; the inner sleeve is bolted: only its housing
+   centre and axis are known, within dL_max [1] (beyond it: a warning).
 4. Two models:
 
    - **initial**: joints at the housing centres of the parts measured alone, bushing frames on
-     the housing axis with zero torsion [15-18], bushings undeflected; the spring preload
+     the housing axis with zero torsion [13-18], bushings undeflected; the spring preload
      carries the wheel load at the measured ride height;
    - **identified**: joints where the assembled measurement puts them: bushings at their outer
      sleeve frame with the deflection that the static equilibrium under the wheel load gives
-     (bushing loads of the model held at the measured poses, then the inverse laws [22-23]);
-     the inner-sleeve frame follows as B* = B2 D^-1 [24-26] (reported), bolted spherical joints
-     at the exactly measured centre S* [27].
+     (bushing loads of the model held at the measured poses [22], then the inverse laws [23]);
+     the inner-sleeve frame follows as B* [24-26] (reported), bolted spherical joints at the
+     exactly measured centre S* [27].
 
-5. The paper's check: at the identified model's static equilibrium (wheel load applied as a
-   force) every joint sits at its measured location; the largest deviation is reported.
+5. The paper's check (its section 5, no equation): at the identified model's static
+   equilibrium (wheel load applied as a force) every joint sits at its measured location;
+   the largest deviation is reported.
 
 Pure geometry: the two solves (the bushing loads at the measured poses, the verification) are
 steps of :mod:`elastokin.studies.identification`, which passes their results to
@@ -79,12 +84,27 @@ class JointResult:
     identified_mm: np.ndarray
     truth_mm: np.ndarray | None = None
     max_shift_mm: float | None = None  # dL_max [1] when the joint is bolted
-    euler_zxz_deg: np.ndarray | None = None  # identified inner-sleeve frame B* [20-21, 26]
+    euler_zxz_deg: np.ndarray | None = None  # identified inner-sleeve frame B* [20, 26]
     deflection: np.ndarray | None = None  # bushing: mm, mm, mm, deg, deg, deg
+    housing_axis: np.ndarray | None = None  # a bushing's (unit, vehicle frame)
 
     @property
     def shift_mm(self) -> np.ndarray:
         return self.identified_mm - self.initial_mm
+
+    @property
+    def clearance_shift_mm(self) -> float:
+        """The part of the shift the clearance bounds (mm): a bushing's normal to its housing
+        axis (the sleeve moves in the bolt hole), a bolted joint's whole shift."""
+        shift = self.shift_mm
+        if self.housing_axis is not None:
+            shift = shift - (shift @ self.housing_axis) * self.housing_axis
+        return float(np.linalg.norm(shift))
+
+    @property
+    def exceeds_clearance(self) -> bool:
+        """True when the joint is identified farther from its housing centre than dL_max."""
+        return self.max_shift_mm is not None and self.clearance_shift_mm > self.max_shift_mm
 
     @property
     def error_vs_truth_mm(self) -> float | None:
@@ -109,6 +129,24 @@ class Identification:
     #: each bushing's identified (outer sleeve) frame B2, vehicle frame (columns x y z)
     outer_frames: dict[str, np.ndarray] = field(default_factory=dict)
 
+    def clearance_warnings(self) -> list[str]:
+        """A warning for every joint identified farther from its housing centre than its
+        clearance dL_max [1] allows (measurement error, or a wrong clearance or housing)."""
+        out = []
+        for name, j in self.joints.items():
+            if j.exceeds_clearance:
+                where = " normal to the housing axis" if j.housing_axis is not None else ""
+                out.append(f"joint '{name}': identified {j.clearance_shift_mm:.3f} mm from its "
+                           f"housing centre{where}, beyond its clearance dL_max = "
+                           f"{j.max_shift_mm:.3f} mm (eq. (1) of Meissonnier et al. 2006): "
+                           "CMM noise, or the clearance or the housing is not as measured")
+        return out
+
+    @property
+    def all_warnings(self) -> list[str]:
+        """Mark matching, dropped marks, unused hardpoints, shifts beyond the clearance."""
+        return [*self.warnings, *self.clearance_warnings()]
+
     def to_json(self) -> dict:
         def vec(v):
             return None if v is None else [float(x) for x in v]
@@ -127,12 +165,14 @@ class Identification:
                            "identified_mm": vec(j.identified_mm),
                            "truth_mm": vec(j.truth_mm),
                            "max_shift_mm": j.max_shift_mm,
+                           "clearance_shift_mm": j.clearance_shift_mm,
+                           "exceeds_clearance": j.exceeds_clearance,
                            "euler_zxz_deg": vec(j.euler_zxz_deg),
                            "deflection_mm_deg": vec(j.deflection)}
                        for n, j in self.joints.items()},
             "verification_max_deviation_mm": self.verification_max_deviation_mm,
             "verification_deviation_mm": self.verification_mm,
-            "warnings": self.warnings,
+            "warnings": self.all_warnings,
             "files": self.sources,
         }
 
@@ -226,8 +266,9 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
 def part_poses(s: Suspension, parts: dict[str, PartMeasurement],
                assembled: dict[str, np.ndarray], assembly_file: str
                ) -> tuple[dict[str, PartPose], list[str]]:
-    """Every part's pose in the vehicle frame [8-12]: the marks matched and fitted in the CMM
-    frame, then expressed relative to the ground part's pose (which fixes the CMM frame)."""
+    """Every part's pose in the vehicle frame [8-12]: the marks ordered [8-10] and fitted
+    [11-12] in the CMM frame, then expressed relative to the ground part's pose (which fixes
+    the CMM frame)."""
     m = s.measurements
     warnings: list[str] = []
     matches = {}
@@ -334,7 +375,7 @@ class _Geometry:
 
     def bushing(self, name: str, c: BushingSpec) -> None:
         """The outer sleeve (exactly measured) gives the bushing frame; the inner sleeve is
-        bolted: its housing centre and axis give the initial frame with zero torsion [15-18]."""
+        bolted: its housing centre and axis give the initial frame with zero torsion [13-18]."""
         feats = self.feats
         hp = hardpoint_name(c.at, f"connections.{name}.at", self.s.source)
         inner = self.s.measurements.joints[name].inner
@@ -351,7 +392,8 @@ class _Geometry:
         self.bushing_frames[name] = (F1, F2)
         self.place(hp, housing, o2)
         self.joints[name] = JointResult(name, "bushing", housing, o2,
-                                        max_shift_mm=self._clearance(name))
+                                        max_shift_mm=self._clearance(name),
+                                        housing_axis=w_h / np.linalg.norm(w_h))
 
     def joint(self, name: str, c) -> None:
         """A joint: a bolted side is known by its housing centre, the other side exactly
@@ -382,7 +424,8 @@ class _Geometry:
 
     def config(self, hardpoints: dict[str, np.ndarray], label: str, frame: int) -> dict:
         """The config of one geometry: hardpoints, measured axes and spin axis, bushing
-        frames (``frame`` 0: initial, 1: identified) as z-x-z Euler angles [20-21]."""
+        frames (``frame`` 0: initial, 1: identified) as z-x-z Euler angles [20] of their
+        rotation terms [21]."""
         raw = self.s.raw
         d = copy.deepcopy(raw)
         d.pop("measurements", None)
@@ -411,7 +454,8 @@ def apply_design_loads(ident: Identification, balanced: Suspension,
     """The identified model's bushing deflections [22-23] from the loads its bushings carry
     with the model held at the measured poses (``state``, solved on ``balanced``, the
     identified config's suspension): written into the identified config as initial
-    deflections, with the inner-sleeve frame B* = B2 D^-1 [24-26] and its centre reported;
+    deflections, with the inner-sleeve frame B* [24-26] and its centre reported (the paper's
+    D is inner rel. outer sleeve, here outer rel. inner: B* = B2 D^-1, vehicle frame);
     the balanced spring's preload; the design without balancing (the file is the model)."""
     s, cfg = ident.suspension, ident.identified_config
     design = dict(s.raw["design"])
@@ -436,9 +480,9 @@ def apply_design_loads(ident: Identification, balanced: Suspension,
 
 def verification_deviations(ident: Identification, identified: Suspension,
                             poses: PartPoses) -> None:
-    """[7] The distance of every joint of every moving part from its measured location, at
-    the identified model's static equilibrium under the wheel load (``poses``, solved on
-    ``identified``): stored in ``ident``."""
+    """The paper's check (its section 5, no equation): the distance of every joint of every
+    moving part from its measured location, at the identified model's static equilibrium
+    under the wheel load (``poses``, solved on ``identified``): stored in ``ident``."""
     dev: dict[str, float] = {}
     for name in ident.joints:
         connection, _, end = name.partition(":")  # a link end is "<link>:<hardpoint>"

@@ -1,6 +1,9 @@
-"""Part poses and joint frames from CMM marks: the reference paper's identification geometry
-(``shared/paper/method.md``; equation numbers in brackets). Pure numpy: points in mm, angles in
-deg, rotations as 3x3 matrices mapping a part's local frame to the measurement frame.
+"""Part poses and joint frames from CMM marks: the reference paper's identification geometry.
+Numbers in brackets are the equation numbers of the paper itself (Meissonnier et al., Proc.
+IMechE Part D 220, 2006; in the text extracted from its PDF the label "(20)" is out of place:
+by the order of the equations (20) is the z-x-z Euler angles and (21) the terms a_ij they are
+computed from). Pure numpy: points in mm, angles in deg, rotations as 3x3 matrices mapping a
+part's local frame to the measurement frame.
 """
 
 from __future__ import annotations
@@ -111,7 +114,8 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
     """Order the unordered assembled marks of a part and fit its pose [8-12].
 
     All 4 marks are tried first (the 24 permutations); when none passes, one point is wrong:
-    each set of 3 local marks is tried against the measured points [10] and the passing
+    each set of 3 local marks is tried against the measured points (the paper's text after
+    (10): the wrong point is left out and the rest computed with three) and the passing
     assignment kept (its left-out mark reported); when several pass, the one whose pose fit
     is at least twice as good as any other, else an error. Two passing orderings of all four
     marks are ambiguous and raise; nothing passing raises.
@@ -164,7 +168,8 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
 
 def zero_torsion_frame(housing_axis, v2_in_part1) -> np.ndarray:
     """Bushing frame on part 1 (columns u1, v1, w) [15-18]: w is the housing axis, and u1 is
-    chosen so that u1 . v2* = 0, i.e. zero torsion about w at static equilibrium."""
+    chosen so that u1 . v2* = 0 [18] (v2* part 2's v axis seen from part 1 [14]), i.e. zero
+    torsion [17] about w at static equilibrium."""
     w = np.asarray(housing_axis, float)
     w = w / np.linalg.norm(w)
     u = np.cross(np.asarray(v2_in_part1, float), w)
@@ -176,7 +181,8 @@ def zero_torsion_frame(housing_axis, v2_in_part1) -> np.ndarray:
 
 
 def euler_zxz_deg(R) -> np.ndarray:
-    """(psi, theta, phi), deg, with R = Rz(psi) Rx(theta) Rz(phi) [20-21]."""
+    """(psi, theta, phi), deg, with R = Rz(psi) Rx(theta) Rz(phi): the angles [20] from the
+    terms a_ij of R [21]."""
     a = np.asarray(R, float)
     theta = np.arctan2(np.hypot(a[0, 2], a[1, 2]), a[2, 2])
     psi = np.arctan2(a[0, 2], -a[1, 2])

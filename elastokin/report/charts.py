@@ -28,6 +28,7 @@ STYLE = {
     "initial": {"color": "tab:blue", "linestyle": "-"},
     "identified": {"color": "tab:red", "linestyle": "-"},
     "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
+    "identified_kinematic": {"color": "tab:red", "linestyle": ":"},
     "identified_stiffness": {"color": "tab:green", "linestyle": "--"},
 }
 #: number formats of the legend by unit: (static value, RMS error)
@@ -77,32 +78,126 @@ CHART_LIST = (
 CHARTS = {c.name: c for c in CHART_LIST}
 
 
-def new_figure(panels: int = 1):
-    """A figure with room for the provenance footer: (pyplot, figure, axes); with two panels
-    a 3:1 chart over a residual panel sharing its x axis (axes a pair)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    # fixed margins (room for long axis labels and the footer): a layout engine costs about
-    # as much as drawing the chart
-    if panels == 1:
-        fig, ax = plt.subplots(figsize=(7.0, 5.0))
-        fig.subplots_adjust(left=0.13, right=0.975, bottom=0.135, top=0.93)
-        return plt, fig, ax
-    fig, axes = plt.subplots(2, 1, figsize=(7.0, 6.6), sharex=True,
-                             gridspec_kw={"height_ratios": (3, 1)})
-    fig.subplots_adjust(left=0.155, right=0.975, bottom=0.105, top=0.945, hspace=0.07)
-    return plt, fig, axes
+#: resolution of the PNG charts: 7 in wide at 150 dpi is 1050 px, the report's full width
+DPI = 150
+#: figure size (in) and margins of each layout: one panel, or a 3:1 chart over its residual
+#: panel (fixed margins: a layout engine costs about as much as drawing the chart)
+LAYOUTS = {1: ((7.0, 5.0), {"left": 0.13, "right": 0.975, "bottom": 0.125, "top": 0.93}),
+           2: ((7.0, 6.6), {"left": 0.155, "right": 0.975, "bottom": 0.1, "top": 0.945,
+                            "hspace": 0.07, "height_ratios": (3, 1)})}
+#: x position of the y labels (axes fraction): fixed, so that stacked panels align without
+#: measuring their tick labels
+YLABEL_X = -0.115
 
 
-def provenance_footer(fig, provenance: dict) -> None:
-    """The versions and config hash every chart carries."""
-    fig.text(0.01, 0.005, f"elastokin {provenance['elastokin_version']}, exudyn "
-             f"{provenance['exudyn_version']}, config {provenance['config_file']} sha256 "
-             f"{provenance['config_sha256'][:12]}", fontsize=6, color="0.4",
-             ha="left", va="bottom")
+def footer_text(provenance: dict) -> str:
+    """The provenance line every chart carries: versions, the config (and rig) file with the
+    first 12 hex digits of its SHA-256."""
+    rig = provenance.get("rig_file")
+    rig_sha = provenance.get("rig_sha256") or ""
+    rig_txt = f"; rig {rig} ({rig_sha[:12]})" if rig else ""
+    return (f"elastokin {provenance['elastokin_version']}, Exudyn "
+            f"{provenance['exudyn_version']}; config {provenance['config_file']} "
+            f"(sha256 {provenance['config_sha256'][:12]}){rig_txt}")
+
+
+def provenance_footer(fig, provenance: dict):
+    """Write the provenance line (:func:`footer_text`) at the figure's bottom left; returns
+    the text artist."""
+    return fig.text(0.01, 0.008, footer_text(provenance), fontsize=7, color="0.3",
+                    ha="left", va="bottom")
+
+
+class ChartCanvas:
+    """The figures the charts are drawn on (matplotlib's Agg canvas, no pyplot): one per
+    layout (:data:`LAYOUTS`), created on first use and reused, a chart's artists removed
+    after it is saved; axes, ticks and fonts are made once."""
+
+    def __init__(self):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        self._new = (Figure, FigureCanvasAgg)
+        self._layouts: dict[int, tuple] = {}
+
+    def axes(self, panels: int):
+        """(figure, chart axes, residual axes or None), emptied, for ``panels`` 1 or 2."""
+        if panels not in self._layouts:
+            Figure, FigureCanvasAgg = self._new
+            size, margins = LAYOUTS[panels]
+            fig = Figure(figsize=size, dpi=DPI)
+            FigureCanvasAgg(fig)
+            if panels == 1:
+                fig.subplots_adjust(**{k: v for k, v in margins.items()})
+                axes = (fig.add_subplot(), None)
+            else:
+                kw = dict(margins)
+                gs = fig.add_gridspec(2, 1, height_ratios=kw.pop("height_ratios"), **kw)
+                top = fig.add_subplot(gs[0])
+                axes = (top, fig.add_subplot(gs[1], sharex=top))
+                top.tick_params(labelbottom=False)
+            for ax in axes:
+                if ax is not None:
+                    ax.yaxis.set_label_coords(YLABEL_X, 0.5)
+            self._layouts[panels] = (fig, *axes, fig.text(0.01, 0.008, "", fontsize=7,
+                                                          color="0.3", ha="left",
+                                                          va="bottom"))
+        fig, ax, axr, footer = self._layouts[panels]
+        for a in (ax, axr):
+            if a is None:
+                continue
+            for artist in [*a.lines, *a.texts]:
+                artist.remove()
+            if a.get_legend() is not None:
+                a.get_legend().remove()
+            a.set_prop_cycle(None)  # colours of unstyled models from the start
+            a.set_title("")
+            a.set_xlabel("")
+            a.set_ylabel("")
+            a.relim()
+            a.autoscale(True)
+        return fig, ax, axr, footer
+
+
+def legend_corner(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int) -> str:
+    """The corner of ``ax`` whose box (about the size of a legend of ``entries`` lines) holds
+    the fewest curve points: matplotlib's ``loc="best"`` at a small part of its cost."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    width, height = 0.6, min(0.9, 0.06 * entries + 0.04)
+    counts = {}
+    for corner, (left, bottom) in (("upper left", (0.0, 1.0 - height)),
+                                   ("upper right", (1.0 - width, 1.0 - height)),
+                                   ("lower left", (0.0, 0.0)),
+                                   ("lower right", (1.0 - width, 0.0))):
+        n = 0
+        for xs, ys in curves:
+            u = (np.asarray(xs) - x0) / (x1 - x0 or 1.0)
+            v = (np.asarray(ys) - y0) / (y1 - y0 or 1.0)
+            n += int(np.count_nonzero((u >= left) & (u <= left + width)
+                                      & (v >= bottom) & (v <= bottom + height)))
+        counts[corner] = n
+    return min(counts, key=counts.get)  # first of the least crowded, in the order above
+
+
+def chart_caption(spec: ChartSpec, with_test: bool) -> str:
+    """What a chart shows, in a sentence or three (the report's figure caption)."""
+    lc = LOAD_CASES[spec.load_case]
+    y = channel(spec.y).label.split(" [")[0]
+    x = (lc.label if spec.x == lc.input else channel(spec.x).label).split(" [")[0]
+    models = "every model and the test" if with_test else "every model"
+    if spec.stroke_only:
+        what = (f"{y} against {x} over the travel stroke (rebound to bump), {models}; the "
+                "legend gives each curve's steer amplitude")
+    elif spec.relative:
+        what = (f"{y} against {x} ({lc.meaning}), {models}, each curve as its change from "
+                "its static state (the static values in the legend)")
+    else:
+        what = f"{y} against {x} ({lc.meaning}), {models}, every measured row"
+    if with_test:
+        what += (" and each model's RMS error against the test. Lower panel: model minus "
+                 "test at the test points (changes from the static state), what the RMS "
+                 "error is taken over")
+    return f"{spec.title}: {what}."
 
 
 def axis_label(load_case: str, column: str) -> str:
@@ -195,19 +290,18 @@ def chart_data(spec: ChartSpec, sweeps: list[Sweep], errors: dict | None = None)
         f"model - test [{unit}]\n(change from static)", spec.title)
 
 
-def _draw(spec: ChartSpec, sweeps: list[Sweep], out_dir: Path, provenance: dict,
-          errors: dict | None) -> list[Path]:
-    """One chart (PNG and SVG): every model's sweep of ``spec.load_case`` overlaid, with a
-    residual panel (model - test) when the test is among them."""
-    data = chart_data(spec, sweeps, errors)
-    plt, fig, axes = new_figure(2 if data.residuals else 1)
-    ax, axr = (axes[0], axes[1]) if data.residuals else (axes, None)
+def draw_chart(canvas: ChartCanvas, data: ChartData, provenance: dict):
+    """Draw one chart on ``canvas``: every model's curve, the legend in the least crowded
+    corner, with the residual panel (model - test) under it when there are residuals.
+    Returns the figure (saved by the caller, then reused)."""
+    fig, ax, axr, footer = canvas.axes(2 if data.residuals else 1)
     for model, legend, xs, ys in data.lines:
         ax.plot(xs, ys, **STYLE.get(model, {}), label=legend)
     ax.set_ylabel(data.ylabel, fontsize=9)
-    ax.set_title(data.title)
+    ax.set_title(data.title, fontsize=11, y=1.0, pad=7)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    corner = legend_corner(ax, [(xs, ys) for _, _, xs, ys in data.lines], len(data.lines))
+    ax.legend(fontsize=8, loc=corner, framealpha=0.9)
     if axr is not None:
         for model, points in data.residuals.items():
             style = {k: v for k, v in STYLE.get(model, {}).items() if k != "linewidth"}
@@ -216,37 +310,73 @@ def _draw(spec: ChartSpec, sweeps: list[Sweep], out_dir: Path, provenance: dict,
         axr.axhline(0.0, color="black", linewidth=0.8)
         axr.set_ylabel(data.residual_label, fontsize=8)
         axr.grid(True, alpha=0.3)
-    (axr if axr is not None else ax).set_xlabel(data.xlabel)
-    fig.align_ylabels()
-    provenance_footer(fig, provenance)
-    paths = [out_dir / f"{spec.name}.png", out_dir / f"{spec.name}.svg"]
-    fig.savefig(paths[0], dpi=150)
-    with plt.rc_context({"svg.hashsalt": "elastokin"}):  # reproducible SVG ids
-        fig.savefig(paths[1], metadata={"Date": None})
-    plt.close(fig)
-    return paths
+    (axr if axr is not None else ax).set_xlabel(data.xlabel, fontsize=9)
+    footer.set_text(footer_text(provenance))
+    return fig
+
+
+def save_chart(fig, path: Path, svg: bool = False) -> list[Path]:
+    """``path`` (.png) and, with ``svg``, the same chart as .svg beside it (reproducible
+    ids, no date)."""
+    from matplotlib import rc_context
+    from PIL import Image
+
+    # the opaque chart as RGB at a fast zlib level: half the time of savefig's RGBA PNG, 10 %
+    # larger than its best compression
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3]
+    Image.fromarray(np.ascontiguousarray(rgb)).save(path, compress_level=3, dpi=(DPI, DPI))
+    if not svg:
+        return [path]
+    with rc_context({"svg.hashsalt": "elastokin"}):
+        fig.savefig(path.with_suffix(".svg"), metadata={"Date": None})
+    return [path, path.with_suffix(".svg")]
+
+
+#: the charts a process draws: (chart data, file, provenance, svg); set before the worker
+#: process forks, so that the worker receives only indices
+_JOBS: list[tuple[ChartData, Path, dict, bool]] = []
+_CANVAS: list[ChartCanvas] = []  # this process's canvas, made on first use
+
+
+def _draw_jobs(indices: list[int]) -> list[list[Path]]:
+    if not _CANVAS:
+        _CANVAS.append(ChartCanvas())
+    out = []
+    for i in indices:
+        data, path, provenance, svg = _JOBS[i]
+        out.append(save_chart(draw_chart(_CANVAS[0], data, provenance), path, svg))
+    return out
 
 
 def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
-              errors: dict | None = None) -> list[Path]:
+              errors: dict | None = None, svg: bool = False) -> list[Path]:
     """Every chart of a K&C run whose load case was run (:data:`CHART_LIST`), each overlaying
-    all models (PNG and SVG); ``errors``: summary.json's ``errors`` (model -> metric -> RMS),
-    for the legends of the Fig. 9 charts (other RMS errors are computed from the sweeps, the
-    same way). Drawn in two forked processes where the platform forks (Linux), about twice as
-    fast. Returns the files written, in chart order."""
+    all models, as PNG (and SVG with ``svg``); ``errors``: summary.json's ``errors`` (model ->
+    metric -> RMS), for the legends of the Fig. 9 charts (other RMS errors are computed from
+    the sweeps, the same way). Where the platform forks (Linux) and has two cores, a forked
+    process draws every other chart while this one draws the rest. Returns the files
+    written, in chart order."""
     jobs = []
     for spec in CHART_LIST:
         chosen = [sw for sw in sweeps if sw.load_case == spec.load_case
                   and spec.x in sw.columns and spec.y in sw.columns]
         if chosen:
-            jobs.append((spec, chosen, out_dir, provenance, errors))
-    if len(jobs) > 2 and sys.platform.startswith("linux") and (os.cpu_count() or 1) > 1:
-        import multiprocessing
+            jobs.append((chart_data(spec, chosen, errors), out_dir / f"{spec.name}.png",
+                         provenance, svg))
+    _JOBS[:] = jobs
+    try:
+        mine, theirs = list(range(0, len(jobs), 2)), list(range(1, len(jobs), 2))
+        if len(jobs) > 2 and sys.platform.startswith("linux") and (os.cpu_count() or 1) > 1:
+            import multiprocessing
 
-        new_figure()[0].close("all")  # pyplot imported once, before the fork
-
-        with multiprocessing.get_context("fork").Pool(2) as pool:
-            done = pool.starmap(_draw, jobs)
-    else:
-        done = [_draw(*job) for job in jobs]
-    return [path for paths in done for path in paths]
+            ChartCanvas()  # matplotlib imported once, before the fork
+            with multiprocessing.get_context("fork").Pool(1) as pool:
+                pending = pool.apply_async(_draw_jobs, (theirs,))
+                done = dict(zip(mine, _draw_jobs(mine)))
+                done.update(zip(theirs, pending.get()))
+        else:
+            done = dict(enumerate(_draw_jobs(list(range(len(jobs))))))
+    finally:
+        _JOBS.clear()
+    return [path for i in sorted(done) for path in done[i]]

@@ -8,13 +8,16 @@ file and the solver settings. Units are in the column names (mm, N, N*mm, deg).
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 import math
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elastokin.config.frozen import plain_data, thaw
 from elastokin.report.text import identification_table
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
@@ -24,13 +27,15 @@ if TYPE_CHECKING:
     from elastokin.studies.kc_job import KCRun
 
 def config_provenance(s) -> dict:
-    """Versions, config file and its SHA-256, units: carried by every result file."""
+    """Versions, the config file and its SHA-256, the rig file (None: the config's own rig
+    section) and its SHA-256, units: carried by every result file."""
     return {
         "elastokin_version": __version__,
         "exudyn_version": exudyn_version(),
         "config_file": str(s.source),
-        "config_sha256": s.sha256,
-        "rig_file": s.rig_source or None,  # None: the config's own rig section
+        "config_sha256": s.config_sha256,
+        "rig_file": s.rig_source or None,
+        "rig_sha256": s.rig_sha256,
         "units": {"length": "mm", "force": "N", "torque": "N*mm", "angle": "deg"},
     }
 
@@ -46,6 +51,7 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
             fh.write(f"# {key}: {header[key]}\n")
         if header.get("rig_file"):
             fh.write(f"# rig_file: {header['rig_file']}\n")
+            fh.write(f"# rig_sha256: {header['rig_sha256']}\n")
         fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable\n")
         writer = csv.writer(fh, lineterminator="\n")
         writer.writerow(["model", "load_case", "step", "branch", *names])
@@ -78,8 +84,12 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         if r is not None:
             entry["reference"] = r.model_dump(exclude_none=True)
         bushings[name] = entry
+    s = run.suspension
     return {
-        **config_provenance(run.suspension),
+        **config_provenance(s),
+        "config_name": s.name,
+        "input_files": input_files(run),
+        "test_data_synthetic": s.kc_test is not None and s.kc_test.synthetic is not None,
         "solver": {label: m.solver for label, m in run.models.items()},
         "models": {label: m.summary() for label, m in run.models.items()},
         "errors": run.errors,
@@ -107,6 +117,30 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
     }
 
 
+def _sha256(path: str) -> str | None:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def input_files(run: KCRun) -> list[dict]:
+    """Every file the run read, with its role and SHA-256 (None: no longer readable): the
+    config, the rig file, the K&C test files and the CMM files."""
+    s = run.suspension
+    out = [{"role": "config", "file": str(s.source), "sha256": s.config_sha256}]
+    if s.rig_source:
+        out.append({"role": "rig file", "file": s.rig_source, "sha256": s.rig_sha256})
+    test = run.models.get("test")
+    for f in (test.solver.get("files", []) if test is not None else []):
+        out.append({"role": "K&C test", "file": str(f), "sha256": _sha256(f)})
+    if run.identification is not None:
+        for part, f in run.identification.sources.items():
+            role = "CMM, assembled marks" if part == "assembly" else f"CMM, part {part}"
+            out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
+    return out
+
+
 def write_summary(path: Path, summary: dict) -> None:
     path.write_text(json.dumps(summary, indent=2, sort_keys=False) + "\n")
 
@@ -114,15 +148,26 @@ def write_summary(path: Path, summary: dict) -> None:
 def identification_dict(ident, prov: dict) -> dict:
     """``identification.json``: the contract keys (parts, joints, verification) plus details
     and provenance. Vehicle (config) frame, mm, deg."""
+    body = ident.to_json()
+    marks = ident.suspension.measurements.parts
+    for part, p in body["parts"].items():
+        k = p["dropped_mark"]
+        p["dropped_mark_label"] = None if k is None else marks[part].marks[k]
     return {**prov,
             "eps_mm": ident.suspension.measurements.eps_mm,
-            **ident.to_json(),
+            **body,
             "conventions": {
                 "shift_mm": "identified - initial joint location, config frame, loaded state",
                 "initial_mm": "joint centre from the parts measured alone (housing centre of "
                               "a bolted side)",
                 "identified_mm": "joint centre from the assembled measurement; for a bushing "
-                                 "the inner-sleeve centre B* [26]",
+                                 "the inner-sleeve centre B* (eq. (26))",
+                "clearance_shift_mm": "the part of the shift a clearance bounds (a bushing: "
+                                      "normal to its housing axis), against max_shift_mm = "
+                                      "dL_max (eq. (1); null: no clearance given); "
+                                      "exceeds_clearance flags it (and a warning)",
+                "equations": "eq. (n): equation n of Meissonnier et al. (2006), Proc. IMechE "
+                             "Part D 220",
                 "deflection_mm_deg": "bushing deflection at static equilibrium, part-2 sleeve "
                                      "relative to part 1, bushing frame (x y z mm, rx ry rz "
                                      "deg)",
@@ -132,10 +177,12 @@ def identification_dict(ident, prov: dict) -> dict:
             }}
 
 
-def write_identification(folder: Path, ident, prov: dict) -> None:
-    (folder / "identification.json").write_text(
-        json.dumps(identification_dict(ident, prov), indent=2) + "\n")
+def write_identification(folder: Path, ident, prov: dict) -> dict:
+    """identification.json and .txt; returns the JSON's content."""
+    doc = identification_dict(ident, prov)
+    (folder / "identification.json").write_text(json.dumps(doc, indent=2) + "\n")
     (folder / "identification.txt").write_text(identification_table(ident))
+    return doc
 
 
 def stiffness_summary(fit) -> dict:
@@ -163,14 +210,16 @@ def write_config(path: Path, config: dict, header: str) -> None:
     """A config dict as YAML, with a comment header (units, provenance)."""
     import yaml
 
-    text = yaml.safe_dump(config, sort_keys=False, default_flow_style=None, width=100)
+    text = yaml.safe_dump(plain_data(config), sort_keys=False, default_flow_style=None,
+                          width=100)
     lines = "".join(f"# {ln}\n" for ln in header.splitlines())
     Path(path).write_text(lines + text)
 
 
-def write_kc_results(run: KCRun, folder: Path) -> dict:
+def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
-    (when there are), the charts, summary.json and report.html. Returns the summary."""
+    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
+    Returns the summary."""
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
 
@@ -178,40 +227,74 @@ def write_kc_results(run: KCRun, folder: Path) -> dict:
     sweeps = [sw for m in run.models.values() for sw in m.sweeps]
     write_kc_csv(folder / "kc.csv", sweeps, prov)
     files = ["kc.csv", "summary.json"]
+    ident = None
     if run.identification is not None:
-        write_identification(folder, run.identification, prov)
+        ident = write_identification(folder, run.identification, prov)
         files += ["identification.json", "identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
-    charts = kc_charts(sweeps, folder, prov, run.errors)
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg)
     files += [p.name for p in charts] + ["report.html"]
     summary = summary_dict(run, files)
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts)
+    write_report(folder / "report.html", summary, charts, ident)
     return summary
 
 
-def write_identification_results(folder: Path, ident, fit, config_path: Path) -> list[str]:
+def written_config(config: dict, suspension, label: str, folder: Path,
+                   fit_again: bool = True) -> dict:
+    """A config that ``elastokin identify`` writes into ``folder``: the model's ``label``
+    (what ``elastokin kc`` calls the model), the references, and the config's ``kc_test``
+    section with its folder relative to ``folder`` (so that ``elastokin kc`` on it overlays the
+    test, as on the config). ``fit_again`` False: the stiffness fit is switched off (the
+    initial model's config: the fit belongs to the identified model; the fitted model's
+    config: its laws are fitted)."""
+    out = {"elastokin": config["elastokin"], "name": config["name"], "label": label,
+           **{k: v for k, v in config.items() if k not in ("elastokin", "name", "label")}}
+    kc_test = suspension.raw.get("kc_test")
+    if kc_test is not None:
+        kc_test = thaw(kc_test)
+        here = os.path.abspath(Path(suspension.source).parent / kc_test.get("folder", "."))
+        there = os.path.abspath(folder)
+        # relative, as a config's own paths are, unless the two share no folder but the root
+        common = os.path.commonpath([here, there])
+        kc_test["folder"] = here if common == os.path.dirname(common) else os.path.relpath(
+            here, there)
+        if not fit_again:
+            kc_test.setdefault("stiffness_identification", {})["enabled"] = False
+        out["kc_test"] = kc_test
+    return out
+
+
+def write_identification_results(folder: Path, ident, fit, config_path: Path,
+                                 final_folder: Path | None = None) -> list[str]:
     """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
-    ``elastokin kc`` loads), identification.json / .txt and, with a stiffness ``fit``,
-    identified_stiffness.yaml and stiffness_identification.json / .txt. Returns the names."""
+    ``elastokin kc`` loads: :func:`written_config`), identification.json / .txt and, with a
+    stiffness ``fit``, identified_stiffness.yaml and stiffness_identification.json / .txt.
+    ``final_folder``: where the files end up (the configs' paths are relative to it; default
+    ``folder``). Returns the names."""
     from elastokin.identification.stiffness_results import stiffness_config
 
-    prov = config_provenance(ident.suspension)
+    s = ident.suspension
+    where = final_folder or folder
+    prov = config_provenance(s)
     header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
               f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
               "lengths mm, forces N, torques N*mm, angles deg; config frame.")
-    write_config(folder / "identified.yaml", ident.identified_config,
+    write_config(folder / "identified.yaml",
+                 written_config(ident.identified_config, s, "identified", where),
                  header.format(what="identified model (joints from the assembled "
                                "measurement, bushing deflections at equilibrium)"))
-    write_config(folder / "initial.yaml", ident.initial_config,
+    write_config(folder / "initial.yaml", written_config(ident.initial_config, s, "initial",
+                                                         where, fit_again=False),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
     write_identification(folder, ident, prov)
     files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
     if fit is not None:
         write_config(folder / "identified_stiffness.yaml",
-                     stiffness_config(ident.identified_config, fit),
+                     written_config(stiffness_config(ident.identified_config, fit), s,
+                                    "identified_stiffness", where, fit_again=False),
                      header.format(what="identified model with the bushing laws fitted to "
                                    "the K&C test data"))
         files += ["identified_stiffness.yaml",
@@ -257,16 +340,17 @@ def write_json(path: Path, doc: dict) -> None:
 
 
 def write_doe_results(out_dir: Path, study, records: list[dict], nominal: dict,
-                      solver: dict, run: dict) -> dict:
-    """A DOE study's doe.json (statistics, sensitivity, failures, definitions, provenance),
-    doe_run.json (where and how long it ran: ``run``) and charts. Returns doe.json's content."""
+                      solver: dict, run: dict, svg: bool = False) -> dict:
+    """A DOE study's doe.json (statistics, sensitivity, warnings, failures, definitions,
+    provenance), doe_run.json (where and how long it ran: ``run``) and charts (PNG; with
+    ``svg`` also SVG). Returns doe.json's content."""
     from elastokin.report.doe_charts import doe_charts
     from elastokin.studies.doe_runner import STORE
     from elastokin.studies.doe_statistics import DEFINITIONS, aggregate
 
     body = aggregate(study, records, nominal)
     prov = config_provenance(study.suspension)
-    files = [p.name for p in doe_charts(body, records, out_dir, prov)]
+    files = [p.name for p in doe_charts(body, records, out_dir, prov, svg)]
     doc = {**prov, "solver": solver, **body,
            "files": ["doe.json", STORE, "doe_run.json", *files], "definitions": DEFINITIONS}
     write_json(out_dir / "doe.json", doc)

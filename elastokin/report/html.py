@@ -1,112 +1,410 @@
-"""``report.html``: one self-contained page (charts embedded as PNG data, no external files or
-scripts) with the characteristics and errors of every model, the static equilibrium and the
-provenance of every number (versions, config hash, solver settings, test files)."""
+"""``report.html``: one self-contained page (charts embedded as PNG data, a few lines of inline
+script to enlarge them, nothing fetched) that reads like a K&C report: a section per stage of
+the run (geometric identification, static state, K&C characteristics with the charts, errors
+against the test, stiffness fit), the sign conventions, and the provenance of every number as a
+short table (versions, hashes of the config, rig and test files, solver settings once).
+
+Everything comes from ``summary.json``'s content and, with CMM measurements, from
+``identification.json``'s (:func:`elastokin.report.files.identification_dict`). Section ids
+(:data:`SECTIONS`) are stable: tests and links use them.
+"""
 
 from __future__ import annotations
 
 import base64
 import html
-import json
 from pathlib import Path
 
-from elastokin.rig.channels import CHARACTERISTIC_LIST, ERROR_LIST
+from elastokin.report.charts import CHARTS, chart_caption
+from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
 
-#: the characteristics and errors tables: (summary key, label, unit, number format)
-ROWS = [(c.name, (c.label, c.unit, c.fmt)) for c in CHARACTERISTIC_LIST]
-ERROR_ROWS = [(e.name, (e.label, e.unit, e.fmt)) for e in ERROR_LIST]
+#: the sections of the report, in order: (id, heading); a section without data is left out
+SECTIONS = (
+    ("summary", "Summary"),
+    ("warnings", "Warnings"),
+    ("identification", "Geometric identification"),
+    ("static", "Static state"),
+    ("characteristics", "K&C characteristics"),
+    ("charts", "Charts"),
+    ("errors", "Errors against the test"),
+    ("stiffness", "Bushing-stiffness identification"),
+    ("signs", "Sign conventions"),
+    ("provenance", "Provenance"),
+)
+HEADINGS = dict(SECTIONS)
+PAPER = "Meissonnier et al. (2006), Proc. IMechE Part D 220"
 
-_CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
-table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;
-text-align:right}th:first-child,td:first-child{text-align:left}figure{display:inline-block;
-margin:0.5em;width:47%}figure img{width:100%}pre{background:#f4f4f4;padding:0.5em;
-overflow-x:auto;font-size:85%}.note{color:#555;font-size:90%}"""
+#: the channels whose signs the report states (those its tables and charts show)
+SIGNED = ("toe_deg", "camber_deg", "wheel_travel_mm", "wheel_centre_longitudinal_mm",
+          "wheel_centre_lateral_mm", "vertical_force_N", "lateral_force_N",
+          "longitudinal_force_N", "aligning_torque_Nmm", "caster_deg",
+          "kingpin_inclination_deg", "scrub_radius_mm", "caster_trail_mm")
+
+_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;max-width:1100px;
+margin:1.5em auto;padding:0 1em;color:#1d1d1d;line-height:1.4}
+h1{margin-bottom:0.2em}h2{border-bottom:2px solid #1d1d1d;padding-bottom:2px;margin-top:2em}
+h3{margin-top:1.4em}
+table{border-collapse:collapse;margin:0.6em 0 1em 0;font-size:92%}
+td,th{border:1px solid #c4c4c4;padding:3px 8px;text-align:right;vertical-align:top}
+th{background:#f0f0f0}th:first-child,td:first-child{text-align:left}
+td.text,th.text{text-align:left}
+tr.flag td{background:#fff1e0}.bad{color:#b00000;font-weight:bold}
+.note{color:#505050;font-size:92%}.synthetic{background:#fff4c2;padding:0.5em 0.8em;
+border-left:4px solid #d9a400}
+nav ol{columns:2;font-size:95%}
+figure{margin:1.2em 0 2em 0;width:100%}
+figure img{width:100%;height:auto;cursor:zoom-in;border:1px solid #ddd}
+figcaption{font-size:92%;color:#303030;margin-top:0.3em}
+#lightbox{position:fixed;inset:0;background:rgba(0,0,0,0.85);display:flex;
+align-items:center;justify-content:center;cursor:zoom-out;z-index:10}
+#lightbox[hidden]{display:none}
+#lightbox img{max-width:98vw;max-height:96vh;height:96vh;width:auto;object-fit:contain;
+background:#fff}
+code{font-size:92%}
+"""
+
+#: click a chart to see it as large as the window; click or Escape to close
+_SCRIPT = """<div id="lightbox" hidden><img alt="enlarged chart"></div><script>
+(function(){var box=document.getElementById('lightbox'),big=box.querySelector('img');
+document.querySelectorAll('figure img').forEach(function(img){img.addEventListener('click',
+function(){big.src=img.src;big.alt=img.alt;box.hidden=false;});});
+box.addEventListener('click',function(){box.hidden=true;});
+document.addEventListener('keydown',function(e){if(e.key==='Escape'){box.hidden=true;}});
+})();</script>"""
 
 
-def _fmt(v, fmt: str) -> str:
-    return "&ndash;" if v is None else format(v, fmt)
+def esc(text) -> str:
+    return html.escape(str(text))
 
 
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
-    return f"<table><tr>{head}</tr>{body}</table>"
+def num(value, fmt: str) -> str:
+    """A number in ``fmt``, or an en dash for none."""
+    return "&ndash;" if value is None else format(value, fmt)
+
+
+def table(header: list[str] | None, rows: list[list[str]], classes: list[str] | None = None,
+          text_columns: tuple[int, ...] = ()) -> str:
+    """An HTML table (``header`` None: none); cells are HTML already; ``classes``: a class per
+    row (e.g. ``flag``); ``text_columns``: left-aligned columns."""
+    def cell(tag: str, i: int, c: str) -> str:
+        cls = ' class="text"' if i in text_columns else ""
+        return f"<{tag}{cls}>{c}</{tag}>"
+
+    head = "".join(cell("th", i, esc(h)) for i, h in enumerate(header or []))
+    body = [f"<tr>{head}</tr>"] if header else []
+    for k, r in enumerate(rows):
+        cls = f' class="{classes[k]}"' if classes and classes[k] else ""
+        body.append(f"<tr{cls}>" + "".join(cell("td", i, c) for i, c in enumerate(r))
+                    + "</tr>")
+    return f"<table>{''.join(body)}</table>"
+
+
+def section(key: str, number: int, body: list[str]) -> str:
+    return (f'<section id="{key}"><h2>{number}. {esc(HEADINGS[key])}</h2>'
+            + "".join(body) + "</section>")
+
+
+def note(text: str) -> str:
+    return f'<p class="note">{text}</p>'
+
+
+# ------------------------------------------------------------------------------ sections
+def summary_section(summary: dict) -> list[str]:
+    """The run in a few lines: the models, the steer amplitude against the paper's, the Fig. 9
+    errors, and what follows."""
+    models = list(summary["models"])
+    refs = summary.get("reference", {}).get("steer_amplitude_deg", {}) or {}
+    errors = summary.get("errors") or {}
+    rows = [["steer amplitude over the travel stroke [deg] (Fig. 9a)",
+             *(num(summary["models"][m].get("steer_amplitude_deg"), ".3f") for m in models)]]
+    if any(m in refs for m in models):
+        source = esc(summary["static"].get("reference_source", ""))
+        rows.append([f"reference steer amplitude [deg] ({source})",
+                     *(num(refs.get(m), "g") for m in models)])
+    for e in ERROR_LIST if errors else ():
+        rows.append([f"RMS error, {esc(e.label)} [{e.unit}]",
+                     *(num((errors.get(m) or {}).get(e.name), e.fmt) for m in models)])
+    meaning = [[f"<b>{esc(m)}</b>", esc(model_meaning(m, "identified" in models))]
+               for m in models]
+    return [table(["model", "what it is"], meaning, text_columns=(1,)),
+            note("Units mm, N, deg; torques N&middot;m in the charts (N&middot;mm in the "
+                 'files); signs ISO 8855 (<a href="#signs">sign conventions</a>).'),
+            table(["", *models], rows)]
+
+
+def model_meaning(label: str, measured: bool) -> str:
+    """What a model of a K&C run is, for the report's reader."""
+    known = {
+        "test": "the K&C rig test data (the config's kc_test files)",
+        "initial": ("joints at the housing centres of the parts measured alone, bushings "
+                    "undeflected (the paper's initial model)" if measured
+                    else "the config's geometry"),
+        "identified": "joints where the assembled measurement puts them, each bushing "
+                      "deflected as at the static equilibrium (the paper's identified model)",
+        "identified_stiffness": "the identified model with its bushing laws fitted to the "
+                                "test data",
+    }
+    if label in known:
+        return known[label]
+    if label.endswith("_kinematic"):
+        return f"{label.removesuffix('_kinematic')} with every bushing replaced by its ideal joint"
+    return "the config's geometry (its label)"
+
+
+def warnings_section(summary: dict) -> list[str]:
+    return ["<ul>" + "".join(f"<li>{esc(w)}</li>" for w in summary["warnings"]) + "</ul>"]
+
+
+def _pose_rows(ident: dict) -> list[list[str]]:
+    rows = []
+    for part, p in ident["parts"].items():
+        dropped = p.get("dropped_mark_label") or ("&ndash;" if p["dropped_mark"] is None
+                                                  else str(p["dropped_mark"]))
+        marks = "4" if p["dropped_mark"] is None else "3"
+        rows.append([esc(part), f"{p['residual_rms_mm']:.4f}", marks,
+                     f'<span class="bad">{esc(dropped)}</span>'
+                     if p["dropped_mark"] is not None else dropped])
+    return rows
+
+
+def _joint_rows(ident: dict) -> tuple[list[list[str]], list[str]]:
+    rows, classes = [], []
+    for name, j in ident["joints"].items():
+        sx, sy, sz = j["shift_mm"]
+        bounded = j.get("max_shift_mm") is not None
+        flag = bool(j.get("exceeds_clearance"))
+        status = ('<span class="bad">beyond dL<sub>max</sub></span>' if flag
+                  else "within" if bounded else "&ndash;")
+        rows.append([esc(name), esc(j["kind"]), f"{sx:.3f}", f"{sy:.3f}", f"{sz:.3f}",
+                     f"{(sx * sx + sy * sy + sz * sz) ** 0.5:.3f}",
+                     num(j.get("clearance_shift_mm") if bounded else None, ".3f"),
+                     num(j.get("max_shift_mm"), ".3f"), status,
+                     num(j.get("error_vs_truth_mm"), ".3f")])
+        classes.append("flag" if flag else "")
+    return rows, classes
+
+
+def identification_section(ident: dict) -> list[str]:
+    """Part poses, joint shifts against dL_max, bushing deflections and the verification,
+    equation numbers of the paper."""
+    out = [note(f"The paper's method ({esc(PAPER)}; &ldquo;eq. (n)&rdquo; is its equation n): "
+                "each part measured alone on the CMM, its 4 marks measured again on the "
+                "assembled suspension under the wheel load, ordered by their distances "
+                "(eqs. (8)&ndash;(10)) and fitted (eqs. (11)&ndash;(12)); every joint in the "
+                "vehicle frame (eq. (19)). The <b>initial</b> model puts a bolted joint at its "
+                "housing centre, the <b>identified</b> model where the assembly puts it, with "
+                "each bushing deflected as at the static equilibrium (eqs. (22)&ndash;(26))."),
+           "<h3>Part poses from the assembled marks</h3>",
+           table(["part", "pose residual RMS mm", "marks used", "dropped (wrong) mark"],
+                 _pose_rows(ident))]
+    rows, classes = _joint_rows(ident)
+    out += ["<h3>Joints: identified &minus; initial (housing centre)</h3>",
+            note("Shift in the vehicle frame at the loaded state. <i>In clearance</i>: the part "
+                 "of the shift the assembly clearance bounds (a bushing: normal to its housing "
+                 "axis), against dL<sub>max</sub> = hole/2 &minus; bolt + bore/2 (eq. (1)). "
+                 "<i>Error</i>: against the synthetic truth, when known."),
+            table(["joint", "kind", "shift x mm", "y mm", "z mm", "|shift| mm",
+                   "in clearance mm", "dL_max mm", "", "error mm"], rows, classes, (1, 8))]
+    rows = []
+    for name, j in ident["joints"].items():
+        u = j.get("deflection_mm_deg")
+        if u is not None:
+            rows.append([esc(name), f"{(u[0] ** 2 + u[1] ** 2) ** 0.5:.3f}", f"{u[2]:.3f}",
+                         f"{u[5]:.4f}", ", ".join(f"{a:.2f}" for a in j["euler_zxz_deg"])])
+    if rows:
+        out += ["<h3>Identified bushing deflections at the static equilibrium</h3>",
+                note("Part 2 relative to part 1, bushing frame (eqs. (22)&ndash;(23)); "
+                     "B*: the inner-sleeve frame (eq. (26)) as z-x-z Euler angles "
+                     "(eq. (20))."),
+                table(["bushing", "radial mm", "axial mm", "torsion deg",
+                       "B* z-x-z Euler deg"], rows)]
+    dev = ident.get("verification_max_deviation_mm")
+    out += ["<h3>Verification</h3>",
+            f"<p>The paper's check (its section 5): at the identified model's static "
+            f"equilibrium under the wheel load every joint lies within <b>{num(dev, '.2e')} "
+            "mm</b> of its measured location.</p>"]
+    return out
+
+
+def static_section(summary: dict) -> list[str]:
+    """The static equilibrium under the design wheel load: forces, wheel centre, bushing
+    deflections against the paper's Table 3."""
+    st = summary["static"]
+    springs = ", ".join(f"{esc(k)} {v:.1f} N" for k, v in st["spring_force_N"].items())
+    x, y, z = st["wheel_centre_mm"]
+    fx, fy, fz = st["contact_patch_force_N"]
+    out = [table(["quantity", "value"], [
+        ["wheel load [N]", f"{st['wheel_load_N']:g}"],
+        ["wheel centre x, y, z [mm] (config frame)", f"{x:.3f}, {y:.3f}, {z:.3f}"],
+        ["contact-patch force x, y, z [N]", f"{fx:.1f}, {fy:.1f}, {fz:.1f}"],
+        ["spring force [N] (+ compression)", springs or "&ndash;"],
+        ["force residual on the wheel assembly [N]",
+         f"{st['wheel_assembly_force_residual_N']:.1e}"]], text_columns=(1,))]
+    rows = [[esc(n), f"{b['radial_mm']:.3f}", f"{b['axial_mm']:.3f}", f"{b['torsion_deg']:.4f}",
+             esc(", ".join(f"{k} {v:g}" for k, v in b.get("reference", {}).items()))]
+            for n, b in st["bushings"].items()]
+    if rows:
+        out += ["<h3>Bushing deflections</h3>",
+                note("Part 2 relative to part 1, bushing frame, the design preload included; "
+                     f"reference: {esc(st.get('reference_source', ''))}."),
+                table(["bushing", "radial mm", "axial mm", "torsion deg", "reference"], rows,
+                      text_columns=(4,))]
+    return out
+
+
+def characteristics_section(summary: dict) -> list[str]:
+    models = summary["models"]
+    rows = [[f'<span title="{esc(c.definition)}">{esc(c.label)} [{c.unit}]</span>',
+             *(num(models[m].get(c.name), c.fmt) for m in models)]
+            for c in CHARACTERISTIC_LIST]
+    return [note("Gradients are least-squares slopes over the measured rows of each load case "
+                 '(definitions in <a href="#signs">sign conventions</a>); steering-axis '
+                 "figures at the static state."), table(["characteristic", *models], rows)]
 
 
 def _image(path: Path) -> str:
     data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return (f'<figure><img alt="{html.escape(path.stem)}" src="data:image/png;base64,{data}">'
-            f"<figcaption>{html.escape(path.name)}</figcaption></figure>")
+    spec = CHARTS.get(path.stem)
+    title = spec.title if spec is not None else path.stem
+    return f'<img alt="{esc(title)}" src="data:image/png;base64,{data}" width="1050">'
 
 
-def write_report(path: Path, summary: dict, charts: list[Path]) -> Path:
-    """Write ``report.html`` from ``summary.json``'s content and the PNG charts."""
-    models = summary["models"]
-    labels = list(models)
-    rig = (f", rig file <code>{html.escape(summary['rig_file'])}</code>"
-           if summary.get("rig_file") else "")
-    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>elastokin K&amp;C "
-             f"report: {html.escape(summary['config_file'])}</title><style>{_CSS}</style>"
-             "</head><body>",
-             f"<h1>K&amp;C report: {html.escape(summary['config_file'])}</h1>",
-             f"<p class='note'>elastokin {summary['elastokin_version']}, Exudyn "
-             f"{summary['exudyn_version']}, config sha256 <code>{summary['config_sha256']}"
-             f"</code>{rig}. Units mm, N, N&middot;mm, deg; signs ISO 8855 (see summary.json "
-             "<code>sign_conventions</code>).</p>"]
-    if "test" in models:
-        parts.append("<p class='note'>The <b>test</b> curves are the K&amp;C test files of the "
-                     "config (for the shipped case study: SYNTHETIC data, see the README).</p>")
-    parts.append("<h2>Characteristics</h2>")
-    rows = [[f"{html.escape(label)} [{unit}]", *(_fmt(models[m].get(key), fmt) for m in labels)]
-            for key, (label, unit, fmt) in ROWS]
-    parts.append(_table(["characteristic", *labels], rows))
-    refs = summary.get("reference", {}).get("steer_amplitude_deg", {})
-    if refs:
-        parts.append("<p class='note'>Reference steer amplitude (deg, "
-                     f"{html.escape(summary['static'].get('reference_source', ''))}): "
-                     + ", ".join(f"{html.escape(k)} {v:g}" for k, v in refs.items()) + "</p>")
-    if summary.get("warnings"):
-        parts.append("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in summary["warnings"])
-                     + "</ul>")
-    errors = summary.get("errors") or {}
-    if errors:
-        parts.append("<h2>Errors against the test</h2><p class='note'>RMS of the model's "
-                     "change from its static state minus the test's, branch by branch, at the "
-                     "test points.</p>")
-        err_labels = list(errors)
-        rows = [[f"{html.escape(label)} [{unit}]",
-                 *(_fmt(errors[m].get(key), fmt) for m in err_labels)]
-                for key, (label, unit, fmt) in ERROR_ROWS]
-        parts.append(_table(["RMS error", *err_labels], rows))
-    fit = summary.get("stiffness_identification")
-    if fit:
-        parts.append("<h2>Bushing-stiffness identification</h2><p class='note'>Model "
-                     "<b>identified_stiffness</b>: per fitted bushing F(u) = scale &middot; "
-                     "f<sub>config</sub>(u) &middot; (1 + cubic &middot; u&sup2;), fitted to the "
-                     "test data by least squares (details, correlations and the residuals in "
-                     f"{html.escape(fit['file'])}). Condition number "
-                     f"{fit['condition_number']:.3g}.</p>")
-        rows = [[html.escape(k), f"{v['value']:.4g}", html.escape(v["unit"]),
-                 f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]",
-                 "yes" if v["determined"] else "no"]
-                for k, v in fit["parameters"].items()]
-        parts.append(_table(["parameter", "value", "unit", "95 % interval", "determined"],
-                            rows))
-        if fit["warnings"]:
-            parts.append("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in fit["warnings"])
-                         + "</ul>")
-    st = summary["static"]
-    parts.append(f"<h2>Static equilibrium under {st['wheel_load_N']:g} N</h2>")
-    rows = [[html.escape(n), f"{b['radial_mm']:.3f}", f"{b['axial_mm']:.3f}",
-             f"{b['torsion_deg']:.4f}", html.escape(", ".join(
-                 f"{k} {v:g}" for k, v in b.get("reference", {}).items()))]
-            for n, b in st["bushings"].items()]
-    parts.append(_table(["bushing", "radial mm", "axial mm", "torsion deg", "reference"], rows))
-    parts.append("<h2>Charts</h2>")
-    parts += [_image(p) for p in charts if p.suffix == ".png"]
-    parts.append("<h2>Provenance and solver settings</h2><pre>"
-                 + html.escape(json.dumps({k: summary[k] for k in (
-                     "elastokin_version", "exudyn_version", "config_file", "config_sha256",
-                     "rig_file", "units", "solver") if k in summary}, indent=2)) + "</pre>")
-    parts.append("</body></html>\n")
-    path.write_text("".join(parts), encoding="utf-8")
+def charts_section(charts: list[Path], with_test: bool) -> list[str]:
+    out = [note("Click a chart to enlarge it (Escape or a click closes it).")]
+    for k, path in enumerate(p for p in charts if p.suffix == ".png"):
+        spec = CHARTS.get(path.stem)
+        caption = (chart_caption(spec, with_test) if spec is not None else "")
+        out.append(f'<figure id="chart-{esc(path.stem)}">{_image(path)}<figcaption><b>Chart '
+                   f"{k + 1}.</b> {esc(caption)} <span class=\"note\">(file "
+                   f"<code>{esc(path.name)}</code>)</span></figcaption></figure>")
+    return out
+
+
+def errors_section(summary: dict) -> list[str]:
+    errors = summary["errors"]
+    labels = list(errors)
+    rows = [[f"{esc(e.label)} [{e.unit}]", *(num(errors[m].get(e.name), e.fmt)
+                                              for m in labels)] for e in ERROR_LIST]
+    return [note("RMS over the test points of the model's change from its static state minus "
+                 "the test's, branch by branch (loading and unloading apart), the model "
+                 "interpolated at the test inputs. The residual panels of the charts show the "
+                 "differences."), table(["RMS error", *labels], rows)]
+
+
+def stiffness_section(fit: dict) -> list[str]:
+    rows = [[esc(k), f"{v['value']:.4g}", esc(v["unit"]),
+             f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]",
+             "yes" if v["determined"] else '<span class="bad">no</span>']
+            for k, v in fit["parameters"].items()]
+    out = [note("Model <b>identified_stiffness</b>: per fitted bushing F(u) = scale &middot; "
+                "f<sub>config</sub>(u) &middot; (1 + cubic &middot; u&sup2;), fitted to the test "
+                "data (method, correlations and residuals in "
+                f"<code>{esc(fit.get('file', ''))}</code>). Condition number "
+                f"{num(fit.get('condition_number'), '.3g')}."),
+           table(["parameter", "value", "unit", "95 % interval", "determined"], rows,
+                 text_columns=(2,))]
+    if fit.get("warnings"):
+        out.append("<ul>" + "".join(f"<li>{esc(w)}</li>" for w in fit["warnings"]) + "</ul>")
+    return out
+
+
+def signs_section(summary: dict) -> list[str]:
+    signs = summary.get("sign_conventions", {})
+    rows = [["frame", esc(signs.get("frame", ""))]]
+    rows += [[f"{esc(channel(c).label)}", esc(CHANNELS[c].sign)] for c in SIGNED]
+    rows += [["bushing deflection", esc(signs.get("bushing_*", ""))],
+             ["spring force", esc(signs.get("spring_*_force_N", ""))]]
+    definitions = [[f"{esc(c.label)} [{c.unit}]", esc(c.definition)]
+                   for c in CHARACTERISTIC_LIST]
+    return [note("ISO 8855 / SAE J670 names; per wheel for the wheel angles. Every column of "
+                 "kc.csv is listed in summary.json <code>sign_conventions</code>."),
+            table(["quantity", "sign"], rows, text_columns=(1,)),
+            "<h3>Characteristics</h3>",
+            table(["characteristic", "definition"], definitions, text_columns=(1,))]
+
+
+def solver_rows(solver: dict) -> list[list[str]]:
+    """Solver settings once: the settings every model shares, then what differs per model
+    (the test's entry is its data source, listed with the inputs)."""
+    models = {k: v for k, v in solver.items() if k != "test" and isinstance(v, dict)}
+    if not models:
+        return []
+    keys = list(dict.fromkeys(k for v in models.values() for k in v))
+    rows = []
+    for k in keys:
+        values = {m: v.get(k) for m, v in models.items()}
+        if len({repr(x) for x in values.values()}) == 1:
+            rows.append([esc(k), esc(next(iter(values.values())))])
+        else:
+            rows.append([esc(k), esc(", ".join(f"{m}: {x}" for m, x in values.items()))])
+    return rows
+
+
+def provenance_section(summary: dict) -> list[str]:
+    rows = [["elastokin", esc(summary["elastokin_version"])],
+            ["Exudyn", esc(summary["exudyn_version"])],
+            ["units", "mm, N, N&middot;mm, deg (charts: torque in N&middot;m)"]]
+    files = summary.get("input_files") or [
+        {"role": "config", "file": summary["config_file"], "sha256": summary["config_sha256"]}]
+    if not summary.get("rig_file"):
+        rows.append(["rig", "the config's <code>rig</code> section"])
+    file_rows = [[esc(f["role"]), f"<code>{esc(f['file'])}</code>",
+                  f"<code>{esc(f['sha256'] or 'missing')}</code>"] for f in files]
+    return [table(None, rows, text_columns=(1,)),
+            "<h3>Input files</h3>",
+            table(["input", "file", "SHA-256"], file_rows, text_columns=(1, 2)),
+            "<h3>Solver settings</h3>",
+            table(["setting", "value"], solver_rows(summary.get("solver", {})),
+                  text_columns=(1,)),
+            note("The same in summary.json (<code>solver</code>, <code>input_files</code>); "
+                 "versions and hashes also in the header of kc.csv and in every chart's "
+                 "footer.")]
+
+
+# ------------------------------------------------------------------------------ the page
+def report_sections(summary: dict, charts: list[Path],
+                    identification: dict | None = None) -> list[tuple[str, list[str]]]:
+    """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
+    with_test = "test" in summary["models"]
+    parts = {"summary": summary_section(summary),
+             "warnings": warnings_section(summary) if summary.get("warnings") else None,
+             "identification": (identification_section(identification)
+                                if identification else None),
+             "static": static_section(summary),
+             "characteristics": characteristics_section(summary),
+             "charts": charts_section(charts, with_test) if charts else None,
+             "errors": errors_section(summary) if summary.get("errors") else None,
+             "stiffness": (stiffness_section(summary["stiffness_identification"])
+                           if summary.get("stiffness_identification") else None),
+             "signs": signs_section(summary),
+             "provenance": provenance_section(summary)}
+    return [(key, parts[key]) for key, _ in SECTIONS if parts[key] is not None]
+
+
+def write_report(path: Path, summary: dict, charts: list[Path],
+                 identification: dict | None = None) -> Path:
+    """Write ``report.html`` from ``summary.json``'s content, the PNG charts and (with
+    measurements) ``identification.json``'s content."""
+    sections = report_sections(summary, charts, identification)
+    title = f"K&C report: {summary.get('config_name') or summary['config_file']}"
+    head = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta "
+            f"name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>"
+            f"{esc(title)}</title><style>{_CSS}</style></head><body>",
+            f"<header><h1>{esc(title)}</h1>",
+            note(f"Config <code>{esc(summary['config_file'])}</code>"
+                 + (f", rig file <code>{esc(summary['rig_file'])}</code>"
+                    if summary.get("rig_file") else "")
+                 + f"; elastokin {esc(summary['elastokin_version'])}, Exudyn "
+                 f"{esc(summary['exudyn_version'])}.")]
+    if summary.get("test_data_synthetic"):
+        head.append('<p class="synthetic"><b>The test data are synthetic</b>: the K&amp;C test '
+                    "files (and the CMM files) of this case study were made by <code>elastokin "
+                    "synthesize</code> from the config; the paper's measurements are not "
+                    "public (README, &ldquo;Case study data&rdquo;).</p>")
+    head.append("<nav><b>Contents</b><ol>" + "".join(
+        f'<li><a href="#{key}">{esc(HEADINGS[key])}</a></li>' for key, _ in sections)
+        + "</ol></nav></header>")
+    body = [section(key, k + 1, parts) for k, (key, parts) in enumerate(sections)]
+    path.write_text("".join(head + body) + _SCRIPT + "</body></html>\n", encoding="utf-8")
     return path

@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from elastokin.rig.channels import CHARACTERISTICS
+
 
 def kc_table(summary: dict, out_dir: Path) -> str:
     """The K&C run's summary: provenance, static bushing table, characteristics, errors and
@@ -43,7 +45,8 @@ def kc_table(summary: dict, out_dir: Path) -> str:
                    f"{num(e['steer_vs_lateral_force_rms_deg'], '.4f'):>19}" \
                    f"{num(e['longitudinal_displacement_rms_mm'], '.3f'):>16}"
         lines.append(row)
-    refs = summary["reference"]["steer_amplitude_deg"]
+    refs = {k: v for k, v in summary["reference"]["steer_amplitude_deg"].items()
+            if k in summary["models"]}  # the references of the models run only
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
@@ -64,40 +67,58 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     return "\n".join(lines)
 
 
+#: the reference the identification's equation numbers are those of
+PAPER = ("Meissonnier et al. (2006), Geometric identification of an elastokinematic model in "
+         "a car suspension, Proc. IMechE Part D 220")
+
+
 def identification_table(ident) -> str:
-    """A readable summary of an identification (plain text)."""
+    """A readable summary of an identification (plain text); equation numbers are the
+    paper's own (:data:`PAPER`)."""
     d = ident.to_json()
     out = [f"Geometric identification of {ident.suspension.name}",
-           f"  config {ident.suspension.source}; units mm, deg; config frame", "",
-           "Part poses from the assembled marks [8-12]",
+           f"  config {ident.suspension.source}; units mm, deg; config frame",
+           "  eq. (n): equation n of the paper, "
+           + PAPER.replace(", Geometric", ",\n    Geometric"),
+           "", "Part poses from the assembled marks (ordering eqs. (8)-(10), pose fit "
+           "eqs. (11)-(12))",
            f"  {'part':<12}{'residual RMS mm':>16}  dropped mark"]
     marks = ident.suspension.measurements.parts
     for p, v in d["parts"].items():
         dropped = "-" if v["dropped_mark"] is None else marks[p].marks[v["dropped_mark"]]
         out.append(f"  {p:<12}{v['residual_rms_mm']:>16.4f}  {dropped}")
-    out += ["", "Joints (loaded state): identified - initial shift, and error against the "
-            "synthetic truth when known",
+    out += ["", "Joints at the loaded state (eq. (19)): shift = identified - initial (housing "
+            "centre);",
+            "  in clearance = the part of the shift the clearance bounds (bushings: normal to "
+            "the housing",
+            "  axis), against dL_max (eq. (1)); error = against the synthetic truth when "
+            "known",
             f"  {'joint':<12}{'kind':<11}{'shift x':>9}{'y':>8}{'z':>8}{'|shift|':>9}"
-            f"{'dL_max':>8}{'error':>8}"]
+            f"{'in clearance':>14}{'dL_max':>8}{'error':>8}"]
     for n, j in d["joints"].items():
         sx, sy, sz = j["shift_mm"]
         dl = "" if j["max_shift_mm"] is None else f"{j['max_shift_mm']:.2f}"
+        used = "" if j["max_shift_mm"] is None else f"{j['clearance_shift_mm']:.3f}"
+        flag = " !" if j["exceeds_clearance"] else ""
         err = "" if j["error_vs_truth_mm"] is None else f"{j['error_vs_truth_mm']:.3f}"
         out.append(f"  {n:<12}{j['kind']:<11}{sx:>9.3f}{sy:>8.3f}{sz:>8.3f}"
-                   f"{math.hypot(sx, sy, sz):>9.3f}{dl:>8}{err:>8}")
-    out += ["", "Bushing deflections at static equilibrium [22-23] (part 2 rel. part 1, "
+                   f"{math.hypot(sx, sy, sz):>9.3f}{used + flag:>14}{dl:>8}{err:>8}")
+    if any(j["exceeds_clearance"] for j in d["joints"].values()):
+        out.append("  ! beyond dL_max: see the warnings below")
+    out += ["", "Bushing deflections at static equilibrium (eqs. (22)-(23); part 2 rel. part 1, "
             "bushing frame)",
             f"  {'bushing':<10}{'radial mm':>10}{'axial mm':>10}{'torsion deg':>12}"
-            f"   B* z-x-z Euler deg [20-21]"]
+            f"   B* z-x-z Euler deg (eqs. (20), (26))"]
     for n, j in d["joints"].items():
         if j["deflection_mm_deg"] is not None:
             u = j["deflection_mm_deg"]
             e = ", ".join(f"{a:.2f}" for a in j["euler_zxz_deg"])
             out.append(f"  {n:<10}{math.hypot(u[0], u[1]):>10.3f}{u[2]:>10.3f}{u[5]:>12.4f}"
                        f"   ({e})")
-    out += ["", f"Verification [7]: at the identified model's static equilibrium the joints "
-            f"are within {d['verification_max_deviation_mm']:.2e} mm of their measured "
-            "locations"]
+    out += ["", "Verification (the paper's check, its section 5): at the identified model's "
+            "static",
+            f"  equilibrium the joints are within {d['verification_max_deviation_mm']:.2e} mm "
+            "of their measured locations"]
     if d["warnings"]:
         out += ["", "Warnings:"] + [f"  - {w}" for w in d["warnings"]]
     return "\n".join(out) + "\n"
@@ -108,7 +129,7 @@ def doe_table(doc: dict, out_dir: Path) -> str:
     s = doc["steer_amplitude_deg"]
     lines = [f"DOE of {doc['config_file']}: {doc['samples']} samples ({doc['method']}, seed "
              f"{doc['seed']}, load cases {doc['load_cases']}), {doc['failed']} failed", ""]
-    lines.append(f"  {'characteristic':<46}{'nominal':>10}{'mean':>10}{'std':>10}"
+    lines.append(f"  {'characteristic':<48}{'nominal':>10}{'mean':>10}{'std':>10}"
                  f"{'p05':>10}{'p95':>10}")
     nominal = doc.get("nominal") or {}
 
@@ -116,12 +137,16 @@ def doe_table(doc: dict, out_dir: Path) -> str:
         return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
 
     for name, st in doc["characteristics"].items():
-        lines.append(f"  {name:<46}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
+        c = CHARACTERISTICS.get(name)
+        text = name if c is None else f"{c.label} [{c.unit}]"
+        lines.append(f"  {text:<48}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
                      f"{num(st['p05'])}{num(st['p95'])}")
     sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
     if sens and s["n"]:
         ranked = sorted(sens, key=lambda k: -sens[k])
-        lines += ["", f"  steer-amplitude sensitivity ({doc['sensitivity_method']}): "
+        what = ("share of the variance" if doc["sensitivity_method"] == "src"
+                else "R^2 per joint, not shares: see the warning")
+        lines += ["", f"  steer-amplitude sensitivity ({what}): "
                   + ", ".join(f"{k} {sens[k]:.2f}" for k in ranked)]
     lines += ["", f"Results in {out_dir}/: " + ", ".join(doc["files"])]
     return "\n".join(lines)

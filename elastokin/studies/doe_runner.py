@@ -9,8 +9,11 @@ import logging
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+import numpy as np
+
 from elastokin.errors import ElastokinError
 from elastokin.studies.doe import Study, evaluate_batch, evaluate_sample
+from elastokin.studies.doe_sampling import EXTENSIBLE
 
 STORE = "samples.jsonl"
 
@@ -19,16 +22,51 @@ class SampleStore:
     """``samples.jsonl``: a header line identifying the study, then one JSON record per
     finished sample, in the order they finished. Appending is flushed per record, so an
     interrupted study keeps what it finished; a torn last line is dropped on reading. A new
-    (or ``restart``) store is written with its first record."""
+    (or ``restart``) store is written with its first record.
+
+    A store of the same study with fewer samples is **extended** in place when the design
+    extends (:data:`~elastokin.studies.doe_sampling.EXTENSIBLE`: Sobol and Monte Carlo, whose
+    first n points do not depend on the sample count): its header is rewritten and only the
+    new samples run (``extended_from`` says from how many). A Latin hypercube does not extend
+    (its strata depend on the count) and is refused with the way out."""
 
     def __init__(self, path: Path, header: dict, restart: bool = False):
         self.path = Path(path)
         self.header = header
         self.records: dict[int, dict] = {}
         self.dropped_partial = False
+        self.extended_from: int | None = None
         self._fresh = restart or not self.path.exists()  # header written with the 1st record
         if not self._fresh:
             self._read()
+
+    def _check_header(self, found) -> None:
+        """The stored study is this one, or (:class:`SampleStore`) one it extends."""
+        def show(v):
+            return f"{v[:12]}..." if isinstance(v, str) and len(v) == 64 else repr(v)
+
+        if not isinstance(found, dict):
+            diff = "unreadable header"
+        else:
+            diff = ", ".join(f"{k} {show(found.get(k))} (now {show(v)})"
+                             for k, v in self.header.items() if found.get(k) != v)
+            if {k for k, v in self.header.items() if found.get(k) != v} == {"samples"}:
+                old, new, method = found["samples"], self.header["samples"], found["method"]
+                if old < new and method in EXTENSIBLE:
+                    self.extended_from = old
+                    return
+                if old < new:
+                    raise ElastokinError(
+                        f"{self.path}: holds a {old}-sample Latin hypercube, which cannot be "
+                        f"extended to {new} samples (its strata depend on the sample count: "
+                        f"the first {old} samples of a {new}-sample design are others); use "
+                        f"--samples {old} to resume it, --restart to discard it, or --method "
+                        "sobol or mc, whose designs extend in place")
+                raise ElastokinError(
+                    f"{self.path}: holds a {old}-sample study; ask for at least {old} "
+                    "samples (a study is extended, never cut), or --restart to discard it")
+        raise ElastokinError(f"{self.path}: holds samples of another study ({diff}); use "
+                             "another --out, or --restart to discard them")
 
     def _read(self) -> None:
         lines = self.path.read_text().split("\n")
@@ -37,14 +75,8 @@ class SampleStore:
         except json.JSONDecodeError:
             found = None
         if found != self.header:
-            def show(v):
-                return f"{v[:12]}..." if isinstance(v, str) and len(v) == 64 else repr(v)
-
-            diff = "unreadable header" if not isinstance(found, dict) else ", ".join(
-                f"{k} {show(found.get(k))} (now {show(v)})" for k, v in self.header.items()
-                if found.get(k) != v)
-            raise ElastokinError(f"{self.path}: holds samples of another study ({diff}); use "
-                                 "another --out, or --restart to discard them")
+            self._check_header(found)
+            lines[0] = json.dumps(self.header, sort_keys=True)
         good = [lines[0]]
         for line in lines[1:]:
             if not line.strip():
@@ -58,7 +90,7 @@ class SampleStore:
             if 0 <= k < self.header["samples"] and k not in self.records:
                 self.records[k] = rec
                 good.append(line)
-        if self.dropped_partial:
+        if self.dropped_partial or self.extended_from is not None:
             self.path.write_text("\n".join(good) + "\n")
 
     def add(self, record: dict) -> None:
@@ -70,6 +102,19 @@ class SampleStore:
         with open(self.path, "a") as fh:
             fh.write(json.dumps(record, sort_keys=True) + "\n")
             fh.flush()
+
+    def check_design(self, shifts: Callable[[int], dict]) -> None:
+        """Every stored sample is the sample ``shifts(k)`` of this study's design (an
+        extended or resumed study must continue the same sequence; a changed sampler would
+        mix two designs)."""
+        for k, rec in self.records.items():
+            new = shifts(k)
+            if set(new) != set(rec["shifts_mm"]) or not all(
+                    np.allclose(rec["shifts_mm"][j], new[j], rtol=0.0, atol=1e-12)
+                    for j in new):
+                raise ElastokinError(f"{self.path}: sample {k} is not sample {k} of this "
+                                     "design (another sampler version?); --restart to "
+                                     "discard the stored samples")
 
     def ordered(self) -> list[dict]:
         """Records in sample order, as read back from JSON (bit-identical floats)."""

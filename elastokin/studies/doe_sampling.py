@@ -15,6 +15,9 @@ from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 
 METHODS = ("lhs", "sobol", "mc")
+#: designs whose first n points are the same whatever the sample count: a study of them
+#: extends in place (a Latin hypercube's strata depend on the count: it does not)
+EXTENSIBLE = ("sobol", "mc")
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,10 @@ DEFINITIONS = {
                    "regression coefficients (linear least squares of the characteristic on "
                    "all components, method 'src'), i.e. the joint's share of the variance "
                    "explained linearly; with fewer samples than components + 2, the R^2 of a "
-                   "regression on the joint's own components (method 'src_per_joint')",
+                   "regression on the joint's own components (method 'src_per_joint', with a "
+                   "warning: inflated by chance, not shares); a warning too when an SRC's "
+                   "standard error exceeds 0.1 or the shares add up to more than 0.1 away "
+                   "from R^2 (shift components correlated in the sample)",
     "characteristics": "as in elastokin kc summary.json (same names and units); parallel "
                        "travel: steer amplitude and bump steer over the stroke, bump camber "
                        "fitted over the stroke (rebound to bump)",
@@ -63,6 +66,66 @@ def standardised_regression(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, f
     return coef[1:] * sx / sy, r2
 
 
+def src_standard_errors(X: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Standard errors of the SRCs of :func:`standardised_regression` (ordinary least
+    squares: s^2 (A^T A)^-1 with s^2 the residual variance over n - p - 1 degrees of freedom,
+    scaled as the SRCs); infinite without a degree of freedom left. A constant y gives
+    zeros."""
+    X = np.asarray(X, float)
+    y = np.asarray(y, float)
+    n, p = X.shape
+    sy = y.std(ddof=1)
+    if not sy > 0:
+        return np.zeros(p)
+    if n <= p + 1:
+        return np.full(p, np.inf)
+    A = np.c_[np.ones(n), X - X.mean(axis=0)]
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    resid = y - A @ coef
+    s2 = float(resid @ resid) / (n - p - 1)
+    cov = s2 * np.linalg.pinv(A.T @ A)
+    return np.sqrt(np.diag(cov)[1:]) * X.std(axis=0, ddof=1) / sy
+
+
+#: the largest standard error of an SRC the sensitivity ranking is reported without a warning
+SRC_STANDARD_ERROR_MAX = 0.1
+#: the largest difference between the sum of the joints' shares and the fit's R^2 (both 1 for
+#: a linear response to uncorrelated inputs) reported without a warning
+SHARES_MISMATCH_MAX = 0.1
+
+
+def sensitivity_warning(result: dict, n: int, p: int, groups: list[str]) -> str | None:
+    """Why a sensitivity result (:func:`joint_sensitivity`) of ``n`` samples and ``p`` shift
+    components should not be read as shares of the variance, or None: too few samples for
+    the multiple regression (each joint's figure is then its own regression's R^2, inflated
+    by chance correlation, and the figures overlap), SRCs whose standard error exceeds
+    :data:`SRC_STANDARD_ERROR_MAX`, or shares that do not add up to the fit's R^2 (inputs
+    correlated in the sample; :data:`SHARES_MISMATCH_MAX`)."""
+    joints = {j: v for j, v in result["joints"].items() if v is not None}
+    if result["method"] == "src_per_joint":
+        k = max(groups.count(j) for j in dict.fromkeys(groups))
+        chance = f", a joint without effect about {k / max(n - 1, 1):.2f}" if n > 1 else ""
+        return (f"{n} samples are too few for the sensitivity measure: the regression on all "
+                f"{p} shift components needs at least {p + 2} samples; each joint's figure is "
+                f"the R^2 of a regression on its own components alone, inflated by chance "
+                f"correlation{chance}, and the figures overlap (sum "
+                f"{sum(joints.values()):.2f}, not shares of the variance); extend the study "
+                f"to {p + 2} samples or more (--samples; sobol and mc designs extend in "
+                "place)")
+    se = result.get("src_standard_error")
+    if se and max(se) > SRC_STANDARD_ERROR_MAX:
+        return (f"the sensitivity of {n} samples is uncertain: the standardised regression "
+                f"coefficients have standard errors up to {max(se):.2f} (R^2 "
+                f"{result['r2']:.2f}); more samples narrow them")
+    total = sum(joints.values())
+    if result["r2"] is not None and abs(total - result["r2"]) > SHARES_MISMATCH_MAX:
+        return (f"the joints' figures add up to {total:.2f}, not to the R^2 {result['r2']:.2f} "
+                f"of the fit: with {n} samples the {p} shift components are correlated in the "
+                "sample, and squared SRCs are shares of the variance only for uncorrelated "
+                "inputs; more samples decorrelate them")
+    return None
+
+
 def joint_sensitivity(X: np.ndarray, y: np.ndarray, groups: list[str]) -> dict:
     """Each joint's share of the variance of y explained linearly by its shift components.
 
@@ -81,16 +144,20 @@ def joint_sensitivity(X: np.ndarray, y: np.ndarray, groups: list[str]) -> dict:
     if n >= p + 2:
         src, r2 = standardised_regression(X, y)
         joints = {j: float(np.sum(src[cols[j]] ** 2)) for j in names}
-        return {"method": "src", "r2": r2, "joints": joints,
-                "src": [float(v) for v in src]}
-    joints = {}
-    for j in names:
-        if n >= len(cols[j]) + 2:
-            _, r2j = standardised_regression(X[:, cols[j]], y)
-            joints[j] = float(r2j)
-        else:
-            joints[j] = None
-    return {"method": "src_per_joint", "r2": None, "joints": joints, "src": None}
+        out = {"method": "src", "r2": r2, "joints": joints, "src": [float(v) for v in src],
+               "src_standard_error": [float(v) for v in src_standard_errors(X, y)]}
+    else:
+        joints = {}
+        for j in names:
+            if n >= len(cols[j]) + 2:
+                _, r2j = standardised_regression(X[:, cols[j]], y)
+                joints[j] = float(r2j)
+            else:
+                joints[j] = None
+        out = {"method": "src_per_joint", "r2": None, "joints": joints, "src": None,
+               "src_standard_error": None}
+    out["warning"] = sensitivity_warning(out, n, p, groups)
+    return out
 
 
 def json_safe(x):
@@ -123,7 +190,7 @@ def aggregate(study, records: list[dict], nominal: dict | None = None) -> dict:
         good = np.isfinite(y)
         sens[name] = joint_sensitivity(X[good], y[good], groups) if good.sum() > 0 else {
             "method": None, "r2": None, "joints": {j.name: None for j in study.joints},
-            "src": None}
+            "src": None, "src_standard_error": None, "warning": None}
     steer = dists.get("steer_amplitude_deg", statistics([]))
     steer_sens = sens.get("steer_amplitude_deg", {"joints": {j.name: None
                                                              for j in study.joints}})
@@ -138,9 +205,11 @@ def aggregate(study, records: list[dict], nominal: dict | None = None) -> dict:
         "sensitivity": steer_sens["joints"],
         "sensitivity_method": steer_sens.get("method"),
         "sensitivity_r2": steer_sens.get("r2"),
+        "warnings": [w for w in [steer_sens.get("warning")] if w],
         "characteristics": dists,
         "sensitivity_by_characteristic": {k: {"joints": v["joints"], "method": v["method"],
-                                              "r2": v["r2"]} for k, v in sens.items()},
+                                              "r2": v["r2"], "warning": v["warning"]}
+                                          for k, v in sens.items()},
         "src_components": {"inputs": [c for j in study.joints for c in j.components],
                            **{k: v["src"] for k, v in sens.items()}},
         "nominal": nominal,

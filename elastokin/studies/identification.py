@@ -1,6 +1,7 @@
 """Geometric identification as a study: the paper's method (:mod:`elastokin.identification.
-geometric`, pure geometry) with its two solves, the bushing loads at the measured poses
-[22-23] and the verification [7]. Units mm, N, N*mm, deg; config frame."""
+geometric`, pure geometry) with its two solves, the bushing loads at the measured poses (the
+paper's equations (22)-(23)) and the verification (the paper's check in its section 5). Units
+mm, N, N*mm, deg; config frame."""
 
 from __future__ import annotations
 

@@ -4,7 +4,9 @@ and outputs (units mm, N, N*mm, deg; config frame):
 1. ``test_data``: the config's K&C test files as sweeps (bad files fail before any solving);
 2. ``geometry``: with CMM measurements, the identified geometry
    (:func:`elastokin.studies.identification.identify_geometry`);
-3. ``model_variants``: which models run (initial, identified, initial_kinematic);
+3. ``model_variants``: which models run (initial, identified, initial_kinematic; a config
+   without measurements runs under its ``label``, e.g. ``identified`` for the config that
+   ``elastokin identify`` writes);
 4. ``preloads``: each variant's design preloads (one solve per distinct suspension);
 5. ``static``: the static equilibrium of the reported model under the design wheel load;
 6. ``load_cases``: every load case of the rig on every model, and its compliance matrix;
@@ -133,14 +135,15 @@ def model_labels(suspension: Suspension) -> list[str]:
 
     With CMM ``measurements``: ``initial`` (joints from the parts measured alone) and
     ``identified`` (see :mod:`elastokin.identification.geometric`). Otherwise ``initial``
-    (the config's geometry; kinematic when the config says ``kinematic: true``) and, when it
-    is compliant, ``initial_kinematic`` (every bushing replaced by its ideal joint).
+    (the config's geometry, under the config's ``label``, ``initial`` by default; kinematic
+    when the config says ``kinematic: true``) and, when it is compliant, ``initial_kinematic``
+    (``<label>_kinematic``: every bushing replaced by its ideal joint).
     """
     if suspension.measurements is not None:
         return ["initial", "identified"]
     if not suspension.kinematic and suspension.bushings:
-        return ["initial", "initial_kinematic"]
-    return ["initial"]
+        return [suspension.label, f"{suspension.label}_kinematic"]
+    return [suspension.label]
 
 
 def select_models(suspension: Suspension, names: str | None) -> list[str]:
@@ -158,7 +161,7 @@ def select_models(suspension: Suspension, names: str | None) -> list[str]:
         raise ConfigError(f"--models {names}: {what}; {suspension.source} yields "
                           f"{', '.join(available)}")
     if "identified_stiffness" in chosen:
-        start = "identified" if suspension.measurements is not None else "initial"
+        start = "identified" if suspension.measurements is not None else suspension.label
         chosen = list(dict.fromkeys([*chosen, start]))  # the fit starts from it
     return chosen
 
@@ -173,9 +176,10 @@ def model_variants(suspension: Suspension, ident: Identification | None = None
                                                                 s.sha256))
                 for label, cfg in (("initial", ident.initial_config),
                                    ("identified", ident.identified_config))}
-    variants = {"initial": ModelVariant("initial", s)}
-    if "initial_kinematic" in model_labels(s):
-        variants["initial_kinematic"] = ModelVariant("initial_kinematic", kinematic(s))
+    labels = model_labels(s)
+    variants = {labels[0]: ModelVariant(labels[0], s)}
+    if len(labels) > 1:
+        variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
     return variants
 
 
@@ -280,7 +284,7 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
     only these (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
     test = test if test is not None else test_data(suspension)
     variants = model_variants(suspension, ident)
-    static_label = "identified" if ident is not None else "initial"
+    static_label = "identified" if ident is not None else suspension.label
     if models is not None:
         variants = {k: v for k, v in variants.items() if k in models}
         if static_label not in variants:
@@ -289,6 +293,8 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
     run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail,
                                fit, fit_cache)
     run.identification = ident
+    if ident is not None:
+        run.add_warnings(ident.all_warnings)  # printed by kc and kept in summary.json
     return run
 
 
