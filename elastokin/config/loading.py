@@ -20,10 +20,13 @@ from pathlib import Path
 import yaml
 from pydantic import BaseModel, ValidationError
 
+from elastokin.config.axle_resolver import resolve_suspension
 from elastokin.config.bounds import TOO_MANY_STEPS
 from elastokin.config.frozen import plain_data
-from elastokin.config.schema import RigSpec, SuspensionFile
-from elastokin.config.suspension import Resolver, Suspension
+from elastokin.config.resolver import Resolver
+from elastokin.config.schema import SuspensionFile
+from elastokin.config.schema_rig import RigSpec
+from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 
 # ----------------------------------------------------------------------------------------------
@@ -367,6 +370,6 @@ def suspension_from_dict(data: Mapping, source: str = "<dict>", sha256: str = ""
         raise ConfigError(format_validation_error(source, err, data, SuspensionFile)) from None
     if not sha256:
         sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
-    return Resolver(spec, source).resolve(sha256, data, config_sha256, rig_sha256)
+    return resolve_suspension(Resolver(spec, source), sha256, data, config_sha256, rig_sha256)
 
 

@@ -10,26 +10,18 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
-
-Vector3 = tuple[float, float, float]
-PointSpec = str | Vector3
-
-
-class StrictModel(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
-
-
-class AxisBetween(StrictModel):
-    """An axis given by two points: unit vector from ``from`` to ``to``."""
-
-    from_: PointSpec = Field(alias="from")
-    to: PointSpec
-
-
-AxisSpec = Vector3 | AxisBetween
+from elastokin.config.schema_axle import AxleSpec, StopSpec
+from elastokin.config.schema_base import (
+    AxisSpec,
+    CurveSpec,
+    PointSpec,
+    StrictModel,
+    Vector3,
+)
+from elastokin.config.schema_rig import RigSpec
 
 
 class Units(StrictModel):
@@ -66,6 +58,7 @@ class WheelSpec(StrictModel):
     centre: PointSpec
     spin_axis: AxisSpec
     loaded_radius_mm: float = Field(gt=0)
+    tyre_rate_N_per_mm: float | None = Field(default=None, gt=0)  # ride rate (in series)
 
 
 class _Joint(StrictModel):
@@ -119,13 +112,6 @@ class LinkSpec(StrictModel):
     parts: tuple[str, str]
     at: tuple[PointSpec, PointSpec]
     description: str = ""
-
-
-class CurveSpec(StrictModel):
-    """A force-deflection curve: deflection (mm or deg) -> force (N) or torque (N*mm)."""
-
-    deflection: list[float] = Field(min_length=2, max_length=bounds.MAX_CURVE_POINTS)
-    load: list[float] = Field(min_length=2, max_length=bounds.MAX_CURVE_POINTS)
 
 
 DirectionSpec = float | CurveSpec
@@ -216,78 +202,6 @@ class SolverSpec(StrictModel):
     max_newton_iterations: int = Field(default=25, gt=0)
     modified_newton: bool = True
     adaptive_step: bool = True
-
-
-class TravelSpec(StrictModel):
-    rebound_mm: float = -90.0
-    bump_mm: float = 90.0
-    step_mm: float = Field(default=1.0, gt=0)
-    unloading: bool = True  # return from bump to rebound after the loading stroke
-
-    @model_validator(mode="after")
-    def _ordered(self) -> TravelSpec:
-        if not self.rebound_mm < 0 < self.bump_mm:
-            raise ValueError("need rebound_mm < 0 < bump_mm (travel about the design position)")
-        n = bounds.travel_steps(self.rebound_mm, self.bump_mm, self.step_mm, self.unloading)
-        bounds.check_steps(n, "step_mm", f"{self.step_mm:g} mm",
-                           f"from rebound_mm {self.rebound_mm:g} to bump_mm {self.bump_mm:g}")
-        return self
-
-
-class VerticalForceSpec(StrictModel):
-    """Vertical force at the contact patch swept from the design wheel load down to ``min_N``,
-    up to ``max_N`` and back to ``min_N`` (force control, N)."""
-
-    min_N: float = Field(default=1000.0, gt=0)
-    max_N: float = Field(default=7500.0, gt=0)
-    step_N: float = Field(default=50.0, gt=0)
-
-    @model_validator(mode="after")
-    def _ordered(self) -> VerticalForceSpec:
-        if not self.min_N < self.max_N:
-            raise ValueError("need min_N < max_N")
-        n = bounds.vertical_force_steps(self.min_N, self.max_N, self.step_N)
-        bounds.check_steps(n, "step_N", f"{self.step_N:g} N",
-                           f"from min_N {self.min_N:g} to max_N {self.max_N:g} and back")
-        return self
-
-
-class ForceSweepSpec(StrictModel):
-    """A force swept 0 -> +amplitude -> -amplitude -> 0 at the design wheel load (N)."""
-
-    amplitude_N: float = Field(default=2000.0, gt=0)
-    step_N: float = Field(default=50.0, gt=0)
-
-    @model_validator(mode="after")
-    def _bounded(self) -> ForceSweepSpec:
-        bounds.check_steps(bounds.sweep_steps(self.amplitude_N, self.step_N), "step_N",
-                           f"{self.step_N:g} N", f"for amplitude_N {self.amplitude_N:g}")
-        return self
-
-
-class TorqueSweepSpec(StrictModel):
-    """A torque swept 0 -> +amplitude -> -amplitude -> 0 at the design wheel load (N*mm)."""
-
-    amplitude_Nmm: float = Field(default=1.0e5, gt=0)
-    step_Nmm: float = Field(default=2500.0, gt=0)
-
-    @model_validator(mode="after")
-    def _bounded(self) -> TorqueSweepSpec:
-        bounds.check_steps(bounds.sweep_steps(self.amplitude_Nmm, self.step_Nmm), "step_Nmm",
-                           f"{self.step_Nmm:g} N*mm", f"for amplitude_Nmm {self.amplitude_Nmm:g}")
-        return self
-
-
-class RigSpec(StrictModel):
-    """The load cases of the virtual K&C rig (defaults: the reference paper's; ``null``
-    leaves a case out). Signs: ISO 8855 vehicle axes, forces on the tyre (see README)."""
-
-    parallel_travel: TravelSpec = TravelSpec()
-    vertical_force: VerticalForceSpec | None = VerticalForceSpec()
-    lateral_force: ForceSweepSpec | None = ForceSweepSpec()
-    longitudinal_force_patch: ForceSweepSpec | None = ForceSweepSpec()
-    longitudinal_force_centre: ForceSweepSpec | None = ForceSweepSpec()
-    aligning_torque: TorqueSweepSpec | None = TorqueSweepSpec()
 
 
 class BushingReference(StrictModel):
@@ -473,6 +387,7 @@ class SuspensionFile(StrictModel):
     wheel: WheelSpec
     connections: dict[str, ConnectionSpec]
     springs: dict[str, SpringSpec] = {}
+    stops: dict[str, StopSpec] = {}
     design: DesignSpec
     kinematic: bool = False
     solver: SolverSpec = SolverSpec()
@@ -480,6 +395,7 @@ class SuspensionFile(StrictModel):
     reference: ReferenceSpec = ReferenceSpec()
     measurements: MeasurementsSpec | None = None
     kc_test: KCTestSpec | None = None
+    axle: AxleSpec | None = None
 
     @field_validator("parts")
     @classmethod

@@ -105,16 +105,17 @@ def with_hardpoints(suspension: Suspension, hardpoints: Mapping[str, np.ndarray]
     given by two hardpoints, bushing, spring seat and the wheel that refers to them follows
     (the config is resolved again with the new coordinates). Apply it to the template first:
     other overrides (laws, kinematic, joint shifts) are not carried over."""
+    from elastokin.config.axle_resolver import resolve_suspension
+    from elastokin.config.resolver import Resolver
     from elastokin.config.schema import SuspensionFile
-    from elastokin.config.suspension import Resolver
 
     unknown = sorted(set(hardpoints) - set(suspension.hardpoints))
     if unknown:
         raise ConfigError(f"{suspension.source}: no hardpoint {', '.join(unknown)}")
     resolver = Resolver(SuspensionFile.model_validate(suspension.raw), suspension.source)
     resolver.hardpoints.update({k: np.asarray(v, float) for k, v in hardpoints.items()})
-    moved = resolver.resolve(suspension.sha256, suspension.raw, suspension.config_sha256,
-                             suspension.rig_sha256)
+    moved = resolve_suspension(resolver, suspension.sha256, suspension.raw,
+                               suspension.config_sha256, suspension.rig_sha256)
     return dataclasses.replace(moved, rig=suspension.rig, rig_source=suspension.rig_source)
 
 

@@ -84,9 +84,10 @@ class LoadCase:
     meaning: str
 
 
-#: supported load cases by name
+#: supported load cases by name (a corner's)
 LOAD_CASES: dict[str, LoadCase] = {c.name: LoadCase(c.name, c.test_input, c.test_required,
-                                                   c.meaning) for c in LOAD_CASE_LIST}
+                                                   c.meaning) for c in LOAD_CASE_LIST
+                                   if c.corner}
 
 #: a sweep may have at most this many monotonic branches (e.g. 0 -> +max -> -max -> 0)
 MAX_BRANCHES = 3

@@ -26,10 +26,23 @@ BALANCE_ITERATIONS = 20
 HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
-def hold_contact_patch(model: SuspensionModel) -> str:
-    """A support holding the wheel's contact patch at its design height (x, y free)."""
-    w = model.suspension.wheel
-    return model.add_support(PATCH_SUPPORT, w.part, w.contact_patch_mm, HOLD_Z)
+def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
+    """Supports holding every wheel's contact patch at its design height (x, y free), by
+    side (the config side's named :data:`PATCH_SUPPORT`)."""
+    s = model.suspension
+    return {side: model.add_support(PATCH_SUPPORT if side == s.side
+                                    else f"{PATCH_SUPPORT}:{side}", w.part,
+                                    w.contact_patch_mm, HOLD_Z)
+            for side, w in s.wheels.items()}
+
+
+def balanced_springs(suspension: Suspension) -> tuple[str, ...]:
+    """The springs whose preloads are solved for the design position, one per wheel (the
+    config's ``design.balance_spring`` and, on an axle, its mirror), in wheel order."""
+    s = suspension
+    if s.design.balance_spring is None:
+        return ()
+    return s.axle.balance_springs if s.axle is not None else (s.design.balance_spring,)
 
 
 def design_state(suspension: Suspension) -> DesignState:
@@ -52,25 +65,29 @@ def design_state(suspension: Suspension) -> DesignState:
         return DesignState(springs, preload)
     ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
     idle = [False]  # idle spins held: only when the plain balancing does not solve
+    balanced = balanced_springs(s)
 
-    def solve(p: float):
+    def solve(p: np.ndarray):
         forces = dict(springs)
-        if d.balance_spring is not None:
-            forces[d.balance_spring] = p
+        forces.update(zip(balanced, (float(v) for v in p)))
         model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
                                 balancing=ideal)
         if idle[0]:
             hold_idle_spins(model)
-        support = hold_contact_patch(model)
-        state = solve_path(model, {support: np.zeros((1, 6))},
+        supports = hold_contact_patches(model)
+        state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
                            "balancing the design position")[0]
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
-        return float(0.0 + state.support_force_N[support][2]), loads
+        pads = np.array([0.0 + state.support_force_N[supports[side]][2] for side in s.sides])
+        return pads, loads
 
     def balance():
-        if d.balance_spring is None:
-            return None, solve(0.0)[1]
-        return _balance_spring(s, solve)
+        if not balanced:
+            return np.zeros(0), solve(np.zeros(0))[1]
+        if len(balanced) == 1:
+            p, loads = _balance_spring(s, lambda p: _first(solve(np.array([p]))))
+            return np.array([p]), loads
+        return _balance_springs(s, balanced, solve)
 
     try:
         p1, loads = balance()
@@ -81,12 +98,46 @@ def design_state(suspension: Suspension) -> DesignState:
             raise
         idle[0] = True
         p1, loads = balance()
-    if d.balance_spring is None:
+    if not balanced:
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
-    springs[d.balance_spring] = float(p1)
+    springs.update(zip(balanced, (float(v) for v in p1)))
     if ideal:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
+
+
+def _first(result):
+    pads, loads = result
+    return float(pads[0]), loads
+
+
+def _balance_springs(s: Suspension, names: tuple[str, ...], solve):
+    """The preloads of several springs (one per wheel) at which every contact patch carries
+    the wheel load: Newton's method on the pad loads, the Jacobian from one solve per spring
+    and then Broyden's update (the loads are nearly linear in the preloads), until every pad
+    load is within 1e-6 of the wheel load."""
+    w = s.design.wheel_load_N
+    target = np.full(len(names), w)
+    r0, _ = solve(np.zeros(len(names)))
+    jac = np.column_stack([(solve(w * e)[0] - r0) / w for e in np.eye(len(names))])
+    p = np.zeros(len(names))
+    r = r0
+    for _ in range(BALANCE_ITERATIONS):
+        try:
+            step = np.linalg.solve(jac, target - r)
+        except np.linalg.LinAlgError:
+            raise ModelError(f"{s.source}: design.balance_spring: the forces of springs "
+                             f"{', '.join(names)} do not reach the wheels: cannot balance"
+                             ) from None
+        p = p + step
+        r_new, loads = solve(p)
+        if np.max(np.abs(r_new - target)) < 1e-6 * w:
+            return p, loads
+        jac += np.outer((r_new - r) - jac @ step, step) / (step @ step)
+        r = r_new
+    raise SolverError(f"{s.source}: design.balance_spring: no preloads of springs "
+                      f"{', '.join(names)} found that carry the {w:g} N wheel loads (last pad "
+                      f"loads {', '.join(f'{v:.6g}' for v in r)} N)")
 
 
 def _balance_spring(s: Suspension, solve):
@@ -115,26 +166,33 @@ def _balance_spring(s: Suspension, solve):
     return p1, loads
 
 
-def degrees_of_freedom(model: SuspensionModel, support: str, held: bool) -> dict:
-    """Exudyn's numerical DOF count of the constraints, with or without ``support``."""
+def degrees_of_freedom(model: SuspensionModel, supports: list[str], held: bool) -> dict:
+    """Exudyn's numerical DOF count of the constraints, with or without ``supports``."""
     mbs = model.mbs
-    obj = model.supports[support]["object"]
-    mbs.SetObjectParameter(obj, "activeConnector", held)
-    mbs.Assemble()
+    objs = [model.supports[name]["object"] for name in supports]
+    _activate(model, objs, held)
     try:
         return exudyn_call(lambda: mbs.ComputeSystemDegreeOfFreedom(verbose=0),
                            "counting degrees of freedom")
     finally:
-        mbs.SetObjectParameter(obj, "activeConnector", False)
-        mbs.Assemble()
+        _activate(model, objs, False)
 
 
-def redundant_joints(model: SuspensionModel, support: str) -> list[str]:
+def _activate(model: SuspensionModel, objects: list[int], on: bool) -> None:
+    """Switch supports on or off (the model's locks always on) and assemble."""
+    for obj in objects:
+        model.mbs.SetObjectParameter(obj, "activeConnector", on)
+    for name in model.locks:
+        model.mbs.SetObjectParameter(model.supports[name]["object"], "activeConnector", True)
+    model.mbs.Assemble()
+
+
+def redundant_joints(model: SuspensionModel, supports: list[str]) -> list[str]:
     """The joints (and links) taking part in a redundancy at the design position: the rows of
     the constraint Jacobian with weight in its left null space (combinations of equations
     that add up to nothing)."""
     mbs = model.mbs
-    mbs.SetObjectParameter(model.supports[support]["object"], "activeConnector", False)
+    _activate(model, [model.supports[name]["object"] for name in supports], False)
     jac = _constraint_jacobian(model)
     n2 = mbs.systemData.ODE2Size()
     cq = jac[n2:, :n2]
@@ -167,40 +225,41 @@ def check_assembly(suspension: Suspension) -> None:
     joint) are redundant (over-constrained) or, with the contact patch height held, leave the
     wheel free to move (under-constrained: e.g. a missing tie rod or joint)."""
     model = SuspensionModel(kinematic(suspension), ModelOptions())
-    support = hold_contact_patch(model)
+    supports = list(hold_contact_patches(model).values())
     src = suspension.source
-    redundant = int(degrees_of_freedom(model, support, False)["redundantConstraints"])
+    redundant = int(degrees_of_freedom(model, supports, False)["redundantConstraints"])
     if redundant > 0:
-        names = ", ".join(redundant_joints(model, support)) or "unknown"
+        names = ", ".join(redundant_joints(model, supports)) or "unknown"
         raise ModelError(
             f"{src}: the assembly is over-constrained: {redundant} redundant constraint "
             f"equation(s) among the joints (in the kinematic model each bushing counts as "
             f"its ideal_joint); joints involved: {names}; remove a joint or free one of its "
             "axes")
-    if degrees_of_freedom(model, support, True)["redundantConstraints"] > 0:
+    if degrees_of_freedom(model, supports, True)["redundantConstraints"] > 0:
+        wheels = "', '".join(w.part for w in suspension.wheels.values())
         raise ModelError(
-            f"{src}: the joints hold the wheel part '{suspension.wheel.part}' rigidly "
-            "(bushings counted as their ideal_joint): it cannot travel vertically")
-    _check_wheel_located(model, support)
+            f"{src}: the joints hold the wheel part '{wheels}' rigidly (bushings counted as "
+            "their ideal_joint): it cannot travel vertically")
+    _check_wheel_located(model, supports)
 
 
-def _check_wheel_located(model: SuspensionModel, support: str) -> None:
+def _check_wheel_located(model: SuspensionModel, supports: list[str]) -> None:
     mbs, src = model.mbs, model.suspension.source
-    obj = model.supports[support]["object"]
-    mbs.SetObjectParameter(obj, "activeConnector", True)
+    objs = [model.supports[name]["object"] for name in supports]
+    _activate(model, objs, True)
     try:
         jac = _constraint_jacobian(model)
     finally:
-        mbs.SetObjectParameter(obj, "activeConnector", False)
-        mbs.Assemble()
+        _activate(model, objs, False)
     n2 = mbs.systemData.ODE2Size()
     cq = jac[n2:, :n2]
     _, sv, vt = np.linalg.svd(cq)
     rank = int(np.sum(sv > 1e-9 * sv[0]))
     null = vt[rank:].T  # free motions of the joints' skeleton (incl. idle spins)
-    wheel = model.wheel_part
-    i0 = mbs.GetNodeODE2Index(model.node[wheel])
-    if null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6:
+    for wheel in model.wheel_parts.values():
+        i0 = mbs.GetNodeODE2Index(model.node[wheel])
+        if not (null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6):
+            continue
         free = null[:, np.argmax(np.linalg.norm(null[i0:i0 + 6], axis=0))]
         moving = [p for p, n in model.node.items()
                   if np.linalg.norm(free[mbs.GetNodeODE2Index(n):][:6]) > 1e-3 *
@@ -234,8 +293,9 @@ def settle_by_continuation(models: list[SuspensionModel]) -> SuspensionModel:
     for model in models:
         if start is not None:
             model.start_from(start)
-        support = hold_contact_patch(model)
-        solve_path(model, {support: np.zeros((1, 6))}, "settling by continuation")
+        supports = hold_contact_patches(model).values()
+        solve_path(model, {sup: np.zeros((1, 6)) for sup in supports},
+                   "settling by continuation")
         start = model.coordinates()
     models[-1].start_from(start)
     return models[-1]

@@ -31,16 +31,18 @@ RAD_PER_DEG = np.pi / 180.0
 
 
 def idle_axes(model) -> dict[str, list[np.ndarray]]:
-    """Per part, the unit axes (config frame) about which it can turn while the wheel part is
-    held and every joint (bushings as their ideal joints) is kept: the idle spins."""
+    """Per part, the unit axes (config frame) about which it can turn while the wheel parts
+    are held and every joint (bushings as their ideal joints) is kept: the idle spins."""
     mbs, s = model.mbs, model.suspension
-    wheel = model.wheel_part
-    marker_g = mbs.AddMarker(MarkerBodyRigid(bodyNumber=model.ground,
-                                             localHT=exu.HT(np.eye(3), model.ref[wheel])))
-    marker_w = model.rigid_marker(wheel, model.ref[wheel], np.eye(3))
-    hold = mbs.AddObject(ObjectJointGeneric(markerNumbers=[marker_g, marker_w],
-                                            constrainedAxes=[1] * 6, activeConnector=True,
-                                            name="idle:hold_wheel"))
+    wheels = set(model.wheel_parts.values())
+    holds = []
+    for wheel in wheels:
+        marker_g = mbs.AddMarker(MarkerBodyRigid(bodyNumber=model.ground,
+                                                 localHT=exu.HT(np.eye(3), model.ref[wheel])))
+        marker_w = model.rigid_marker(wheel, model.ref[wheel], np.eye(3))
+        holds.append(mbs.AddObject(ObjectJointGeneric(
+            markerNumbers=[marker_g, marker_w], constrainedAxes=[1] * 6, activeConnector=True,
+            name=f"idle:hold_wheel:{wheel}")))
     try:
         exudyn_call(mbs.Assemble, f"{s.source}: finding idle spins")
         solver = exu.MainSolverStatic()
@@ -49,7 +51,8 @@ def idle_axes(model) -> dict[str, list[np.ndarray]]:
         exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{s.source}: idle spins")
         jac = np.asarray(solver.GetSystemJacobian())
     finally:
-        mbs.SetObjectParameter(hold, "activeConnector", False)
+        for hold in holds:
+            mbs.SetObjectParameter(hold, "activeConnector", False)
         exudyn_call(mbs.Assemble, f"{s.source}: finding idle spins")
     n2 = mbs.systemData.ODE2Size()
     _, sv, vt = np.linalg.svd(jac[n2:, :n2])
@@ -57,7 +60,7 @@ def idle_axes(model) -> dict[str, list[np.ndarray]]:
     null = vt[rank:]
     out: dict[str, list[np.ndarray]] = {}
     for part, node in model.node.items():
-        if part == wheel or not null.size:
+        if part in wheels or not null.size:
             continue
         i0 = mbs.GetNodeODE2Index(node)
         rot = null[:, i0 + 3:i0 + 6]  # Tait-Bryan parameters: the rotation vector near 0

@@ -48,6 +48,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
+from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, add_stop
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
 from elastokin.physics.states import PartPoses
@@ -124,6 +125,11 @@ class SuspensionModel:
         self.keep_alive: list = []  # symbolic input paths of the current solve
         self.bushing_functions: list = []  # symbolic bushing laws (must outlive the model)
         self.supports: dict[str, dict] = {}
+        #: supports active in every solve, at this offset unless a path is given
+        self.locks: dict[str, np.ndarray] = {}
+        #: bodies of the rig (add_rig_body) and their nodes
+        self.rig_bodies: dict[str, int] = {}
+        self.rig_nodes: dict[str, int] = {}
         self.loads: dict[str, dict] = {}
         self.sensors: dict[str, int] = {}
         self.point_sensors: dict[str, tuple[str, np.ndarray]] = {}  # part, local position
@@ -133,6 +139,11 @@ class SuspensionModel:
     @property
     def wheel_part(self) -> str:
         return self.suspension.wheel.part
+
+    @property
+    def wheel_parts(self) -> dict[str, str]:
+        """The part carrying each wheel, by side (both on an axle)."""
+        return {side: w.part for side, w in self.suspension.wheels.items()}
 
     def _build(self) -> None:
         s = self.suspension
@@ -167,8 +178,13 @@ class SuspensionModel:
             self.springs[sp.name] = mbs.AddObject(ObjectConnectorSpringDamper(
                 markerNumbers=[m0, m1], referenceLength=ref_len, stiffness=sp.rate_N_per_mm,
                 damping=0.0, name=f"spring:{sp.name}"))
+        self.stops = {st.name: add_stop(self, st) for st in s.stops}
+        bar = s.axle.anti_roll_bar if s.axle is not None else None
+        self.anti_roll_bar = add_anti_roll_bar(self, bar) if bar is not None else None
         self._add_sensors()
         exudyn_call(mbs.Assemble, f"{s.source}: assembling the model")
+        if s.axle is not None and s.axle.steering is not None:
+            add_steering_lock(self, s.axle.steering)
 
     def _add_bodies(self) -> None:
         s, mbs = self.suspension, self.mbs
@@ -197,16 +213,48 @@ class SuspensionModel:
         items += [(lk.parts, lk.points_mm) for lk in s.links]
         items += [(b.parts, (b.position_mm, b.position_mm)) for b in s.bushings]
         items += [(sp.parts, sp.seats_mm) for sp in s.springs]
+        items += [(st.parts, st.points_mm) for st in s.stops]
         for parts, (p0, p1) in items:
             for part, p in zip(parts, (p0, p1)):
                 if part in pts:
                     pts[part].append(p)
-        if s.wheel.part in pts:
-            pts[s.wheel.part].append(s.wheel.centre_mm)
+        for w in s.wheels.values():
+            if w.part in pts:
+                pts[w.part].append(w.centre_mm)
+        bar = s.axle.anti_roll_bar if s.axle is not None else None
+        for part in bar.parts if bar is not None else ():
+            pts[part].append(bar.position_mm)
         return pts
 
     def body_or_ground(self, part: str) -> int:
-        return self.ground if part == self.suspension.ground else self.body[part]
+        if part == self.suspension.ground:
+            return self.ground
+        return self.body[part] if part in self.body else self.rig_bodies[part]
+
+    def add_rig_body(self, name: str, point_mm, held: Iterable[int]) -> str:
+        """A rigid body of the rig (not a part of the suspension: no pose recorded) at
+        ``point_mm`` (config frame), held to ground in the ``held`` directions (6 flags,
+        config frame) by a support named ``name`` that every solve keeps (a lock at offset
+        0); supports and loads of parts can act against it (``base``). Returns ``name``."""
+        if name in self.rig_bodies:
+            raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
+        ref = np.asarray(point_mm, float)
+        self.ref[name] = ref
+        self.rig_bodies[name] = self.mbs.CreateRigidBody(
+            referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
+            nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
+        self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
+        self.add_support(name, name, ref, held)
+        self.locks[name] = np.zeros(6)
+        self.mbs.SetObjectParameter(self.supports[name]["object"], "activeConnector", True)
+        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: attaching '{name}'")
+        return name
+
+    def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
+        """Change which directions a support holds (e.g. a rig body let free to heave)."""
+        self.mbs.SetObjectParameter(self.supports[name]["object"], "constrainedAxes",
+                                    [int(c) for c in constrained])
+        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: changing '{name}'")
 
     def rigid_marker(self, part: str, position: np.ndarray, frame: np.ndarray) -> int:
         """A rigid marker on ``part`` at ``position`` (mm, config frame, design position)
@@ -258,8 +306,13 @@ class SuspensionModel:
             for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
                                 ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
                 self.sensors[f"bushing:{name}:{key}"] = obj(e["object"], output)
+        for name, o in self.stops.items():
+            self.sensors[f"stop:{name}"] = obj(o, ovt.ForceLocal)
+        if self.anti_roll_bar is not None:
+            self.sensors["arb:r"] = obj(self.anti_roll_bar, ovt.Rotation)
+            self.sensors["arb:t"] = obj(self.anti_roll_bar, ovt.TorqueLocal)
         recorded = self.body if self.options.part_poses else {
-            self.wheel_part: self.body[self.wheel_part]}
+            part: self.body[part] for part in self.wheel_parts.values()}
         for name, number in recorded.items():
             for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
                 self.sensors[f"part:{name}:{key}"] = mbs.AddSensor(SensorBody(
@@ -268,17 +321,24 @@ class SuspensionModel:
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
 
     # ------------------------------------------------------------------ attachments
-    def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int]) -> str:
-        """Hold ``point_mm`` (config frame, design position) of ``part`` against ground in
-        the ``constrained`` directions (6 flags: translations x y z, rotations x y z of the
-        config frame), following an offset path given when solving; inactive in a solve that
-        gives it no path. Its reaction is recorded. Returns ``name``."""
+    def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
+                    frame=None, base: str | None = None) -> str:
+        """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
+        against ``base``, another part or a rig body) in the ``constrained`` directions (6
+        flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
+        frame; default the config frame), following an offset path given when solving;
+        inactive in a solve that gives it no path (unless it is in :attr:`locks`). Its
+        reaction is recorded. Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         point = np.asarray(point_mm, float)
-        m_ground = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.ground,
-                                                      localHT=exu.HT(np.eye(3), point)))
-        m_part = self.rigid_marker(part, point, np.eye(3))
+        axes = np.eye(3) if frame is None else np.asarray(frame, float)
+        if base is None:
+            m_ground = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.ground,
+                                                          localHT=exu.HT(axes, point)))
+        else:
+            m_ground = self.rigid_marker(base, point, axes)
+        m_part = self.rigid_marker(part, point, axes)
         obj = self.mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[m_ground, m_part], constrainedAxes=list(constrained),
             activeConnector=False, name=name))

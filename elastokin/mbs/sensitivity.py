@@ -90,9 +90,10 @@ def _rxyz(theta):
 
 
 def part_coordinates(model: SuspensionModel) -> dict[str, np.ndarray]:
-    """Each moving part's 6 indices in the ODE2 coordinate vector."""
+    """Each moving part's (and rig body's) 6 indices in the ODE2 coordinate vector."""
     mbs = model.mbs
-    return {p: mbs.GetNodeODE2Index(n) + np.arange(6) for p, n in model.node.items()}
+    nodes = {**model.node, **model.rig_nodes}
+    return {p: mbs.GetNodeODE2Index(n) + np.arange(6) for p, n in nodes.items()}
 
 
 def row_dependencies(model: SuspensionModel) -> list[tuple[np.ndarray, set[str]]]:
@@ -101,9 +102,10 @@ def row_dependencies(model: SuspensionModel) -> list[tuple[np.ndarray, set[str]]
     connector or joint joins it to, but for :data:`SEPARABLE` joints; a joint's equations
     (algebraic rows, after the ODE2 rows) on the parts it joins."""
     mbs, sd = model.mbs, model.mbs.systemData
-    part_of = {int(b): p for p, b in model.body.items()}
+    bodies = {**model.body, **model.rig_bodies}
+    part_of = {int(b): p for p, b in bodies.items()}
     coords = part_coordinates(model)
-    reach = {p: {p} for p in model.body}
+    reach = {p: {p} for p in bodies}
     out = []
     n2 = sd.ODE2Size()
     for i in range(sd.NumberOfObjects()):
@@ -118,7 +120,7 @@ def row_dependencies(model: SuspensionModel) -> list[tuple[np.ndarray, set[str]]
         if obj["objectType"] not in SEPARABLE:
             for p in parts:
                 reach[p] |= parts
-    return [(coords[p], reach[p]) for p in model.body] + out
+    return [(coords[p], reach[p]) for p in bodies] + out
 
 
 def colour_classes(rows: list[tuple[np.ndarray, set[str]]], parts: Sequence[str]

@@ -130,10 +130,13 @@ def _set_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
         set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
         applied[name] = v
     for name, e in model.supports.items():
-        active = name in inputs
-        if active:
+        active = name in inputs or name in model.locks
+        if name in inputs:
             set_path(model, "offset", e["object"], ts, np.vstack([np.zeros((1, 6)),
                                                                   inputs[name]]))
+        elif active:  # a lock: held at its offset from the design position on
+            set_path(model, "offset", e["object"], ts,
+                     np.vstack([np.zeros((1, 6)), np.tile(model.locks[name], (n, 1))]))
         model.mbs.SetObjectParameter(e["object"], "activeConnector", active)
     return applied
 
@@ -225,6 +228,12 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
 def _state(model: SuspensionModel, row: dict[str, np.ndarray],
            applied: dict[str, np.ndarray]) -> ModelState:
     springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
+    # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
+    # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
+    scalars = {f"stop:{n}": abs(float(row[f"stop:{n}"][0])) for n in model.stops}
+    if model.anti_roll_bar is not None:
+        scalars["arb:twist_deg"] = float(row["arb:r"][2]) / DEG
+        scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
     defl, load = {}, {}
     for name, e in model.bushings.items():
         u = row[f"bushing:{name}:u"]
@@ -238,4 +247,4 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
-    return ModelState(poses, springs, defl, load, supports, applied, points)
+    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars)

@@ -68,6 +68,8 @@ class ModelState:
     applied: dict[str, np.ndarray] = field(default_factory=dict)
     points: dict[str, np.ndarray] = field(default_factory=dict)
     sensitivity: StateSensitivity | None = None
+    #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``
+    scalars: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass
@@ -92,3 +94,4 @@ class StepState:
     bushing_load: dict[str, np.ndarray]
     poses: PartPoses | None = None
     sensitivity: dict[str, np.ndarray] | None = None
+    scalars: dict[str, float] = field(default_factory=dict)  # see ModelState.scalars

@@ -18,7 +18,7 @@ import re
 from dataclasses import dataclass
 
 #: the quantity of each unit (K&C test files accept other units of the same quantity)
-QUANTITY = {"mm": "length", "deg": "angle", "N": "force", "N*mm": "torque"}
+QUANTITY = {"mm": "length", "deg": "angle", "N": "force", "N*mm": "torque", "-": "fraction"}
 
 
 @dataclass(frozen=True)
@@ -85,9 +85,50 @@ CHANNEL_LIST = (
             "caster trail [mm] (+ axis ahead)", test="caster_trail",
             test_meaning="caster trail, axis meets the ground ahead +",
             adams="caster_moment_arm"),
-    Channel("track_change_mm", "mm", "contact-point lateral displacement, + outboard (K&C test "
-            "files only: not computed by the rig yet)", "track change [mm] (+ outboard)",
-            test="track_change", test_meaning="contact-point lateral displacement, outboard +"),
+    Channel("track_change_mm", "mm", "contact-point lateral displacement from the design "
+            "position, + outboard (per wheel; the axle's track changes by the sum of both)",
+            "track change at the contact patch [mm] (+ outboard)", test="track_change",
+            test_meaning="contact-point lateral displacement, outboard +", test_sign="",
+            adams="half_track_change"),
+    Channel("wheelbase_change_mm", "mm", "contact-point longitudinal displacement from the "
+            "design position, + when the wheelbase grows (forward on a front axle, rearward "
+            "on a rear one; forward without vehicle data)", "wheelbase change [mm] (+ longer)",
+            test="wheelbase_change", test_meaning="wheelbase change, longer +",
+            adams="wheelbase_change"),
+    Channel("roll_angle_deg", "deg", "body roll relative to the line through the contact "
+            "points, atan((travel right - travel left) / track), + when the body's left side "
+            "rises (axle)", "roll angle [deg] (+ body's left side up)", test="roll_angle",
+            test_meaning="body roll angle, left side up +", adams="roll_angle"),
+    Channel("roll_moment_Nmm", "N*mm", "moment the body needs to hold its roll against the "
+            "contact-patch vertical forces, (Fz right - Fz left) * track / 2, + with a "
+            "positive roll (axle)", "roll moment [N*mm]", test="roll_moment",
+            test_meaning="roll moment of the vertical forces, + with roll",
+            adams="roll_moment"),
+    Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + for rack travel + "
+            "along the rack's axis (axle with steering)", "steering-wheel angle [deg]",
+            test="steering_wheel_angle", test_meaning="steering-wheel angle",
+            adams="steering_wheel_angle"),
+    Channel("rack_travel_mm", "mm", "steering rack travel from the centre along its axis "
+            "(axle with steering)", "rack travel [mm]", test="rack_travel",
+            test_meaning="rack travel from the centre", adams="rack_travel"),
+    Channel("steer_angle_deg", "deg", "wheel steer angle, toe change from the static state "
+            "turned into the vehicle's sense: + turning the wheel to the left (both wheels)",
+            "steer angle [deg] (+ left)", test="steer_angle",
+            test_meaning="steer angle, + to the left", adams="steer_angle"),
+    Channel("arb_twist_deg", "deg", "twist of the anti-roll bar, the other side's half "
+            "relative to the config side's about the bar's axis (axle)",
+            "anti-roll bar twist [deg]", adams="arb_twist"),
+    Channel("arb_torque_Nmm", "N*mm", "torque in the anti-roll bar's torsion spring (axle)",
+            "anti-roll bar torque [N*mm]", adams="arb_torque"),
+    Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
+            "(instant centres of both wheels in the front view, ADAMS/Car's kinematic "
+            "method; axle, parallel travel)", "roll centre height [mm]",
+            adams="roll_center_location_vertical"),
+    Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
+            "the vehicle's left (axle, parallel travel)", "roll centre lateral [mm] (+ left)",
+            adams="roll_center_location_lateral"),
+    Channel("load_fraction", "-", "fraction of the static load case's loads applied, 0 at "
+            "the design wheel loads, 1 at the given loads", "load applied [-]"),
     *(Channel(f"contact_patch_f{a}_N", "N", "force the rig applies to the tyre at the contact "
               "patch, config frame", f"contact-patch force {a} [N] (config frame)",
               adams=f"tire_force_{a}", adams_frame=a) for a in "xyz"),
@@ -131,6 +172,7 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
 _SPRING = re.compile(r"spring_(.+)_force_N")
+_STOP = re.compile(r"stop_(.+)_force_N")
 _BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
 
 
@@ -144,6 +186,11 @@ def channel(name: str) -> Channel | None:
         return Channel(name, "N", "coil spring force, positive in compression",
                        f"spring {m.group(1)} force [N] (+ compression)",
                        adams=f"{m.group(1)}_spring_force")
+    m = _STOP.fullmatch(name)
+    if m:
+        return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
+                       "(bump) or together (rebound); 0 out of contact",
+                       f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
     m = _BUSHING.fullmatch(name)
     if m:
         kind = "rot" if m.group(2) else "disp"
@@ -166,6 +213,10 @@ def spring_column(spring: str) -> str:
     return f"spring_{spring}_force_N"
 
 
+def stop_column(stop: str) -> str:
+    return f"stop_{stop}_force_N"
+
+
 @dataclass(frozen=True)
 class LoadCase:
     """A load case of the rig: its input channel (kc.csv), where a force acts (``patch``,
@@ -180,6 +231,7 @@ class LoadCase:
     where: str | None = None
     direction: str | None = None
     vertical: bool = False  # run on kinematic models too
+    corner: bool = True  # a corner's load case (False: an axle's only)
 
     @property
     def test_input(self) -> str:
@@ -206,6 +258,24 @@ LOAD_CASE_LIST = (
     LoadCase("aligning_torque", "aligning_torque_Nmm",
              "aligning torque [N*mm] (+ about the vertical axis, up)",
              "moment about the vertical at the contact patch", ("toe",), "torque", "up"),
+    LoadCase("opposite_travel", "wheel_travel_mm", "wheel travel [mm] (+ bump)",
+             "the wheels of the axle moved against each other (displacement control)",
+             ("toe",), vertical=True, corner=False),
+    LoadCase("single_wheel_travel", "wheel_travel_mm", "wheel travel [mm] (+ bump)",
+             "one wheel moved, the other held at its design height (displacement control)",
+             ("toe",), vertical=True, corner=False),
+    LoadCase("roll_vertical_force", "roll_angle_deg", "roll angle [deg] (+ body's left up)",
+             "body roll at constant total vertical load", ("toe",), vertical=True,
+             corner=False),
+    LoadCase("steering", "steering_wheel_angle_deg", "steering-wheel angle [deg]",
+             "steering lock to lock, wheels at the design load", ("toe",), vertical=True,
+             corner=False),
+    LoadCase("static_load", "load_fraction", "load applied [-]",
+             "given loads at each contact patch", ("toe",), corner=False),
+    LoadCase("lateral_force_anti_phase", "lateral_force_N",
+             "lateral force at the contact patch [N] (+ to the vehicle's left)",
+             "lateral force at the contact patches in anti-phase", ("toe",), "patch", "left",
+             corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
 #: the force-controlled load cases at the design wheel load
@@ -285,6 +355,67 @@ CHARACTERISTICS: dict[str, Characteristic] = {c.name: c for c in CHARACTERISTIC_
 #: the characteristics fitted over a sweep's measured rows (summary.json)
 GRADIENTS = {c.name: c for c in CHARACTERISTIC_LIST if c.load_case is not None
              and c.name != "bump_steer_deg_per_m"}
+
+def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Characteristic:
+    return Characteristic(name, label, unit, fmt, definition)
+
+
+#: the axle's characteristics (summary.json ``models.<label>.axle``; ADAMS/Car's definitions,
+#: docs/characteristics.md "Axle characteristics"); computed by elastokin.rig.axle_summary
+AXLE_CHARACTERISTIC_LIST = (
+    _axle("roll_centre_height_mm", "roll centre height (kinematic)", "mm", ".1f",
+          "where the lines from each contact point normal to its velocity in parallel travel "
+          "meet (front view), above the contact points, at the static state"),
+    _axle("roll_centre_lateral_mm", "roll centre lateral (kinematic)", "mm", ".1f",
+          "its lateral position, + to the vehicle's left"),
+    _axle("roll_centre_height_force_based_mm", "roll centre height (force-based)", "mm",
+          ".1f", "ADAMS/Car's: from the 12x12 compliance under opposing vertical forces at the "
+          "contact points"),
+    _axle("roll_stiffness_Nmm_per_deg", "roll stiffness (total)", "N*mm/deg", ".0f",
+          "slope of the roll moment against the roll angle, roll and vertical force case"),
+    _axle("anti_roll_bar_roll_stiffness_Nmm_per_deg", "roll stiffness of the anti-roll bar",
+          "N*mm/deg", ".0f", "the bar's torque times its twist per roll angle"),
+    _axle("anti_roll_bar_share", "anti-roll bar's share of the roll stiffness", "-", ".3f",
+          "the bar's roll stiffness over the total"),
+    _axle("roll_steer_left_deg_per_deg", "roll steer, left (toe-in +)", "deg/deg", ".4f",
+          "slope of the left wheel's toe against the roll angle"),
+    _axle("roll_steer_right_deg_per_deg", "roll steer, right (toe-in +)", "deg/deg", ".4f",
+          "slope of the right wheel's toe against the roll angle"),
+    _axle("axle_roll_steer_deg_per_deg", "axle roll steer (+ left)", "deg/deg", ".4f",
+          "slope of the mean steer angle (+ to the left) against the roll angle"),
+    _axle("roll_camber_left_deg_per_deg", "roll camber, left", "deg/deg", ".4f",
+          "slope of the left wheel's camber (relative to the body) against the roll angle"),
+    _axle("roll_camber_right_deg_per_deg", "roll camber, right", "deg/deg", ".4f",
+          "slope of the right wheel's camber against the roll angle"),
+    _axle("percent_anti_dive", "anti-dive (front, braking)", "%", ".1f",
+          "ADAMS/Car's, from the compliance matrix and the vehicle data"),
+    _axle("percent_anti_lift_braking", "anti-lift under braking (rear)", "%", ".1f",
+          "ADAMS/Car's, from the compliance matrix and the vehicle data"),
+    _axle("percent_anti_lift_traction", "anti-lift under traction (front)", "%", ".1f",
+          "ADAMS/Car's, from the compliance matrix and the vehicle data"),
+    _axle("percent_anti_squat", "anti-squat (rear, traction)", "%", ".1f",
+          "ADAMS/Car's, from the compliance matrix and the vehicle data"),
+    _axle("steering_ratio_overall", "steering ratio (lock to lock)", "deg/deg", ".2f",
+          "steering-wheel angle range over the mean road-wheel steer angle's change"),
+    _axle("steering_ratio_centre", "steering ratio (on centre)", "deg/deg", ".2f",
+          "local steering ratio at the steering wheel's centre"),
+    _axle("percent_ackermann_lock", "percent Ackermann at the left lock", "%", ".1f",
+          "100 L (cot outer - cot inner) / track, 0 % equal steer, 100 % the spindle lines "
+          "meeting on the rear axle"),
+    _axle("ackermann_error_lock_deg", "Ackermann error at the left lock", "deg", ".2f",
+          "outer wheel's steer less its Ackermann angle for the turn radius"),
+    _axle("outside_turn_diameter_mm", "outside turn diameter (curb to curb)", "mm", ".0f",
+          "diameter of the outer front contact point's circle at the left lock"),
+    _axle("max_steer_inner_deg", "inner wheel steer at the left lock", "deg", ".2f",
+          "road-wheel steer angle of the inner (left) wheel at the left lock"),
+    _axle("max_steer_outer_deg", "outer wheel steer at the left lock", "deg", ".2f",
+          "road-wheel steer angle of the outer (right) wheel at the left lock"),
+    _axle("ride_rate_left_N_per_mm", "ride rate, left", "N/mm", ".2f",
+          "the left wheel rate in series with the tyre's vertical rate"),
+    _axle("ride_rate_right_N_per_mm", "ride rate, right", "N/mm", ".2f",
+          "the right wheel rate in series with the tyre's vertical rate"),
+)
+AXLE_CHARACTERISTICS = {c.name: c for c in AXLE_CHARACTERISTIC_LIST}
 #: steering-axis columns reported at the static state
 STEERING_AXIS_COLUMNS = ("caster_deg", "kingpin_inclination_deg", "scrub_radius_mm",
                          "caster_trail_mm")

@@ -20,6 +20,7 @@ from elastokin.rig.channels import (
     STEERING_AXIS_COLUMNS,
     bushing_columns,
     spring_column,
+    stop_column,
 )
 from elastokin.rig.steering import steering_axis_columns
 from elastokin.rig.sweeps import Sweep, find_sweep, static_row_value
@@ -82,15 +83,41 @@ def characteristics(states: list[StepState], suspension: Suspension,
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
     })
+    patch = np.array([st.contact_patch_mm for st in states])
+    ahead = -1.0 if s.axle is not None and s.axle.vehicle is not None and \
+        s.axle.vehicle.position == "rear" else 1.0
+    cols["track_change_mm"] = (patch - s.wheel.contact_patch_mm) @ s.outboard
+    cols["wheelbase_change_mm"] = ahead * (patch - s.wheel.contact_patch_mm) @ s.forward
+    # steer angle: toe change from the design position, + turning the wheel to the left
+    toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
+    cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * (-1.0 if s.side == "left" else 1.0)
     if states[0].poses is not None:  # models that record the wheel part only: none
         cols.update(steering_axis_columns(states, s))
+    mine = own_items(s)
     for name in states[0].spring_force_N:
-        cols[spring_column(name)] = np.array([st.spring_force_N[name] for st in states])
+        if mine(name):
+            cols[spring_column(name)] = np.array([st.spring_force_N[name] for st in states])
     for name in states[0].bushing_deflection:
-        u = np.array([st.bushing_deflection[name] for st in states])
-        for i, col in enumerate(bushing_columns(name)):
-            cols[col] = u[:, i]
+        if mine(name):
+            u = np.array([st.bushing_deflection[name] for st in states])
+            for i, col in enumerate(bushing_columns(name)):
+                cols[col] = u[:, i]
+    for key in states[0].scalars:
+        if key.startswith("stop:") and mine(key[5:]):
+            cols[stop_column(key[5:])] = np.array([st.scalars[key] for st in states])
     return cols
+
+
+def own_items(suspension: Suspension):
+    """Whether a spring, bushing or stop (by name) belongs to the sweep of the wheel the
+    suspension is seen from: on an axle the other side's carry its suffix, the config side's
+    and the shared ones do not."""
+    axle = suspension.axle
+    if axle is None:
+        return lambda name: True
+    if suspension.side == axle.sides[0]:
+        return lambda name: not name.endswith(axle.suffix)
+    return lambda name: name.endswith(axle.suffix)
 
 
 def steer_amplitude_deg(sweep: Sweep) -> float:

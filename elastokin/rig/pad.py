@@ -1,6 +1,9 @@
-"""The K&C rig's wheel pad, attached to any built model: a support under the contact patch
-(vertical position prescribed, x and y free: displacement control) and loads at the contact
-patch and at the wheel centre (force control). The model knows nothing of it.
+"""The K&C rig's wheel pads, attached to any built model: per wheel a support under the
+contact patch (vertical position prescribed, x and y free: displacement control) and loads at
+the contact patch and at the wheel centre (force control); on an axle also the steering input
+(the rack's travel) and, for roll, a heave beam carrying both pads (free to move vertically
+under the axle's total vertical load, the pads' heights prescribed relative to it). The model
+knows nothing of it.
 
 Config frame, mm / N / N*mm. Contact-patch forces are the forces the pad applies to the tyre
 (Fz > 0 pushes the wheel up); the pad's vertical reaction is added to them under displacement
@@ -9,7 +12,8 @@ control.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -20,25 +24,128 @@ from elastokin.physics.states import ModelState, StepState
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
 
-PAD = "rig:pad"
-PATCH_FORCE = "rig:contact_patch_force"
-CENTRE_FORCE = "rig:wheel_centre_force"
-CENTRE_TORQUE = "rig:wheel_centre_torque"
-#: recorded points of the wheel part
-CENTRE, PATCH = "rig:wheel_centre", "rig:contact_patch"
+#: the heave beam of the roll load case (a rig body) and its load
+HEAVE, HEAVE_LOAD = "rig:heave", "rig:heave_load"
+HELD, HEAVING = (1, 1, 1, 1, 1, 1), (1, 1, 0, 1, 1, 1)
 
 
-def attach_pad(model: SuspensionModel) -> None:
-    """Attach the pad and the wheel loads to ``model`` (once; again is a no-op)."""
-    if PAD in model.supports:
+def names(side: str) -> dict[str, str]:
+    """The rig's attachments and point sensors of the wheel on ``side``."""
+    return {"pad": f"rig:pad:{side}", "roll_pad": f"rig:roll_pad:{side}",
+            "patch_force": f"rig:contact_patch_force:{side}",
+            "centre_force": f"rig:wheel_centre_force:{side}",
+            "centre_torque": f"rig:wheel_centre_torque:{side}",
+            "centre": f"rig:wheel_centre:{side}", "patch": f"rig:contact_patch:{side}"}
+
+
+@dataclass(frozen=True)
+class WheelInputs:
+    """What the rig does to one wheel per step (config frame): the pad height (mm,
+    displacement control; relative to the heave beam in roll) or None (force control),
+    forces at the contact patch (n, 3) N, forces and torques at the wheel centre (n, 6)."""
+
+    pad_z_mm: np.ndarray | None
+    pad_loads: np.ndarray
+    centre_loads: np.ndarray
+
+
+def attach_pads(model: SuspensionModel) -> None:
+    """Attach a pad and the wheel loads to every wheel of ``model`` (once)."""
+    for side, w in model.suspension.wheels.items():
+        n = names(side)
+        if n["pad"] in model.supports:
+            continue
+        model.add_support(n["pad"], w.part, w.contact_patch_mm, (0, 0, 1, 0, 0, 0))
+        model.add_load(n["patch_force"], w.part, w.contact_patch_mm, "force",
+                       marker_of=n["pad"])
+        model.add_load(n["centre_force"], w.part, w.centre_mm, "force")
+        model.add_load(n["centre_torque"], w.part, w.centre_mm, "torque",
+                       marker_of=n["centre_force"])
+        model.add_point_sensor(n["centre"], w.part, w.centre_mm)
+        model.add_point_sensor(n["patch"], w.part, w.contact_patch_mm)
+
+
+def attach_heave(model: SuspensionModel) -> None:
+    """The heave beam under the contact patches and the pads on it (once)."""
+    if HEAVE in model.rig_bodies:
         return
-    w = model.suspension.wheel
-    model.add_support(PAD, w.part, w.contact_patch_mm, (0, 0, 1, 0, 0, 0))
-    model.add_load(PATCH_FORCE, w.part, w.contact_patch_mm, "force", marker_of=PAD)
-    model.add_load(CENTRE_FORCE, w.part, w.centre_mm, "force")
-    model.add_load(CENTRE_TORQUE, w.part, w.centre_mm, "torque", marker_of=CENTRE_FORCE)
-    model.add_point_sensor(CENTRE, w.part, w.centre_mm)
-    model.add_point_sensor(PATCH, w.part, w.contact_patch_mm)
+    s = model.suspension
+    mid = np.mean([w.contact_patch_mm for w in s.wheels.values()], axis=0)
+    model.add_rig_body(HEAVE, mid, HELD)
+    model.add_load(HEAVE_LOAD, HEAVE, mid, "force")
+    for side, w in s.wheels.items():
+        model.add_support(names(side)["roll_pad"], w.part, w.contact_patch_mm,
+                          (0, 0, 1, 0, 0, 0), base=HEAVE)
+
+
+def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
+            rack_travel_mm: np.ndarray | None = None, heave_load_N: np.ndarray | None = None,
+            what: str = "static solve", solve_per_step: bool = False,
+            substeps: int | None = None, variations: Sequence | None = None
+            ) -> list[dict[str, StepState]]:
+    """Quasi-static steps of the rig from the design position, one dict of wheel states (by
+    side) per step.
+
+    wheels: the inputs of every wheel of the model (:class:`WheelInputs`).
+    rack_travel_mm: the steering rack's travel per step (mm along its axis; default: held).
+    heave_load_N: roll: the total vertical force on the heave beam per step (N); the pads'
+        heights are then relative to the beam, which is free to move vertically.
+    solve_per_step, substeps: see :func:`elastokin.mbs.solve.solve_path`.
+    variations: parameters of the model's parametric bushings
+        (:class:`~elastokin.mbs.sensitivity.LawVariation`): every step then carries the
+        derivatives of each wheel centre, contact patch and spin axis with respect to them.
+    """
+    from elastokin.mbs.sensitivity import solve_path_with_sensitivities
+    from elastokin.mbs.solve import solve_path
+
+    s = model.suspension
+    missing = sorted(set(s.wheels) - set(wheels))
+    if missing:
+        raise ModelError(f"{s.source}: the rig needs inputs for the wheel(s) on the "
+                         f"{', '.join(missing)} side")
+    attach_pads(model)
+    inputs, settle = {}, {}
+    roll = heave_load_N is not None
+    for side, wi in wheels.items():
+        n = names(side)
+        inputs[n["patch_force"]] = np.asarray(wi.pad_loads, float).reshape(-1, 3)
+        cl = np.asarray(wi.centre_loads, float).reshape(-1, 6)
+        inputs[n["centre_force"]], inputs[n["centre_torque"]] = cl[:, :3], cl[:, 3:]
+        settle[n["patch_force"]] = inputs[n["patch_force"]][0]
+        if wi.pad_z_mm is not None:
+            offset = np.zeros((len(wi.pad_z_mm), 6))
+            offset[:, 2] = np.asarray(wi.pad_z_mm, float)
+            inputs[n["roll_pad" if roll else "pad"]] = offset
+    if rack_travel_mm is not None:
+        inputs.update(_steering_inputs(model, rack_travel_mm))
+    if roll:
+        attach_heave(model)
+        inputs[HEAVE_LOAD] = np.asarray(heave_load_N, float)[:, None] * s.up
+        model.set_support_axes(HEAVE, HEAVING)
+    try:
+        if variations:
+            states = solve_path_with_sensitivities(model, inputs, what, variations)
+        else:
+            # with ball-joint friction the suspension first settles under the first loads
+            states = solve_path(model, inputs, what, settle=settle,
+                                solve_per_step=solve_per_step, substeps=substeps)
+    finally:
+        if roll:
+            model.set_support_axes(HEAVE, HELD)
+    return [{side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
+             for side, wi in wheels.items()} for st in states]
+
+
+def _steering_inputs(model: SuspensionModel, rack_travel_mm) -> dict[str, np.ndarray]:
+    from elastokin.mbs.axle_elements import STEERING_LOCK
+
+    if STEERING_LOCK not in model.supports:
+        raise ModelError(f"{model.suspension.source}: the rig cannot steer: the axle has no "
+                         "steering (axle.steering)")
+    travel = np.asarray(rack_travel_mm, float)
+    offset = np.zeros((travel.size, 6))
+    offset[:, 2] = travel
+    return {STEERING_LOCK: offset}
 
 
 def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
@@ -46,59 +153,47 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
             what: str = "static solve", solve_per_step: bool = False,
             substeps: int | None = None, variations: Sequence | None = None
             ) -> list[StepState]:
-    """Quasi-static steps of the rig from the design position.
+    """Quasi-static steps of the rig from the design position, the same inputs on every
+    wheel (on an axle: in phase, the same vectors in the config frame); the config side's
+    wheel states.
 
     pad_z_mm: prescribed vertical displacement of the contact patch per step (mm), or None
         for force control (then the patch is free and ``pad_loads`` must carry Fz).
     pad_loads: (n, 3) forces at the contact patch per step, N, config frame.
     centre_loads: (n, 6) forces (N) and torques (N*mm) at the wheel centre per step.
-    solve_per_step, substeps: see :func:`elastokin.mbs.solve.solve_path`.
-    variations: parameters of the model's parametric bushings
-        (:class:`~elastokin.mbs.sensitivity.LawVariation`): every step then carries the
-        derivatives of the wheel centre, contact patch and spin axis with respect to them.
-    Returns one :class:`StepState` per step.
+    solve_per_step, substeps, variations: see :func:`run_rig`.
     """
-    from elastokin.mbs.sensitivity import solve_path_with_sensitivities
-    from elastokin.mbs.solve import solve_path
-
     if pad_z_mm is None and pad_loads is None:
         raise ModelError("run_pad: give pad_z_mm (displacement control) or pad_loads")
-    attach_pad(model)
     n = len(pad_z_mm) if pad_z_mm is not None else len(pad_loads)
     pl = np.asarray(pad_loads, float).reshape(n, 3) if pad_loads is not None \
         else np.zeros((n, 3))
     cl = np.asarray(centre_loads, float).reshape(n, 6) if centre_loads is not None \
         else np.zeros((n, 6))
-    inputs = {PATCH_FORCE: pl, CENTRE_FORCE: cl[:, :3], CENTRE_TORQUE: cl[:, 3:]}
-    if pad_z_mm is not None:
-        offset = np.zeros((n, 6))
-        offset[:, 2] = np.asarray(pad_z_mm, float)
-        inputs[PAD] = offset
-    if variations:
-        states = solve_path_with_sensitivities(model, inputs, what, variations)
-    else:
-        # with ball-joint friction the suspension first settles under the first pad load
-        states = solve_path(model, inputs, what, settle={PATCH_FORCE: pl[0]},
-                            solve_per_step=solve_per_step, substeps=substeps)
-    return [wheel_state(model, st, pad_z_mm is not None) for st in states]
+    z = None if pad_z_mm is None else np.asarray(pad_z_mm, float)
+    wheels = {side: WheelInputs(z, pl, cl) for side in model.suspension.wheels}
+    steps = run_rig(model, wheels, what=what, solve_per_step=solve_per_step,
+                    substeps=substeps, variations=variations)
+    return [step[model.suspension.side] for step in steps]
 
 
-def wheel_state(model: SuspensionModel, state: ModelState, displacement_control: bool
-                ) -> StepState:
-    """The rig's view of a solved model state: wheel centre and contact patch (recorded
-    points), spin axis and rotation from the wheel part's pose; the pad force (applied, plus
-    the pad's vertical reaction under displacement control)."""
-    w = model.suspension.wheel
+def wheel_state(model: SuspensionModel, state: ModelState, side: str,
+                displacement_control: bool, roll: bool = False) -> StepState:
+    """The rig's view of a solved model state for the wheel on ``side``: wheel centre and
+    contact patch (recorded points), spin axis and rotation from the wheel part's pose; the
+    pad force (applied, plus the pad's vertical reaction under displacement control)."""
+    w = model.suspension.wheels[side]
+    n = names(side)
     poses = state.poses
     R = poses.rotation[w.part]
-    pad = state.applied[PATCH_FORCE].copy()
+    pad = state.applied[n["patch_force"]].copy()
     if displacement_control:
-        pad[2] += state.support_force_N[PAD][2]
+        pad[2] += state.support_force_N[n["roll_pad" if roll else "pad"]][2]
     sens = state.sensitivity
     derivatives = None if sens is None else {
-        "wheel_centre_mm": sens.points[CENTRE], "contact_patch_mm": sens.points[PATCH],
+        "wheel_centre_mm": sens.points[n["centre"]], "contact_patch_mm": sens.points[n["patch"]],
         "spin_axis": np.einsum("abp,b->ap", sens.rotation[w.part], w.spin_axis)}
-    return StepState(state.points[CENTRE], R @ w.spin_axis, R, state.points[PATCH], pad,
-                     state.spring_force_N,
-                     state.bushing_deflection, state.bushing_load,
-                     poses if model.options.part_poses else None, derivatives)
+    return StepState(state.points[n["centre"]], R @ w.spin_axis, R, state.points[n["patch"]],
+                     pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
+                     poses if model.options.part_poses else None, derivatives,
+                     state.scalars)

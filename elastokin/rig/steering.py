@@ -36,7 +36,8 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     s = suspension
     wheel = s.wheel.part
     elements: list[SkeletonElement] = []
-    racks = [j for j in s.joints if j.kind == "rack"]
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    racks = [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
     steer_links = [lk for lk in s.links if wheel in lk.parts]
     reason = None
     if racks:
@@ -62,7 +63,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
         frame = np.asarray(j.frame, float)
         points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
                   j.position_mm + shift1)
-        if j.kind == "rack":
+        if j.kind == "rack" or j.name == axle_rack:
             flags[2] = 0  # the rack moves along its axis (the joint frame's z)
             elements.append(SkeletonElement("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
                                      released=True))

@@ -23,6 +23,8 @@ class Sweep:
     #: with parameter sensitivities: d column / d parameter, (steps, parameters), for the
     #: wheel's columns (:func:`elastokin.rig.characteristics.wheel_column_tangents`)
     tangents: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the wheel's side ("": the config's own side, e.g. test data of a corner)
+    side: str = ""
 
     def stroke(self, name: str) -> np.ndarray:
         return self.columns[name][self.columns["branch"] == "stroke"]

@@ -37,13 +37,15 @@ from elastokin.identification.geometric import Identification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
+from elastokin.rig.axle_summary import axle_characteristics
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import model_errors, travel_stroke_note
 from elastokin.rig.load_cases import (
     StaticResult,
     compliance_matrix,
-    run_load_cases,
+    run_load_cases_sides,
     static_equilibrium,
+    wheel_compliance,
 )
 from elastokin.rig.sweeps import Sweep, find_sweep
 from elastokin.studies.cache import ResultCache, content_key
@@ -58,20 +60,38 @@ def _quiet(msg: str) -> None:
 
 @dataclass
 class ModelResult:
-    """Everything the K&C run produced for one model."""
+    """Everything the K&C run produced for one model: the config side's sweeps and, on an
+    axle, the other wheel's (``other_sides``), the axle itself and its 12x12 compliance."""
 
     label: str
     kinematic: bool
     sweeps: list[Sweep]
     solver: dict
     compliance: np.ndarray | None = None  # see elastokin.rig.load_cases.compliance_matrix
+    other_sides: dict[str, list[Sweep]] = field(default_factory=dict)
+    axle: Suspension | None = None  # the model's suspension, when it is an axle
+    axle_compliance: np.ndarray | None = None  # wheel_compliance (config frame, config side)
 
     def sweep(self, load_case: str) -> Sweep | None:
         return find_sweep(self.sweeps, load_case)
 
     def summary(self) -> dict:
-        """Summary figures (:func:`elastokin.rig.characteristics.summary_figures`)."""
-        return summary_figures(self.sweeps, self.kinematic, self.compliance)
+        """Summary figures (:func:`elastokin.rig.characteristics.summary_figures`) of the
+        config side's wheel; on an axle also the other wheel's (under its side) and the
+        axle's (``axle``, :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
+        out = summary_figures(self.sweeps, self.kinematic, self.compliance)
+        if self.axle is None:
+            return out
+        s = self.axle
+        by_side = {s.side: self.sweeps, **self.other_sides}
+        sides = {s.side: out}
+        for side, sweeps in self.other_sides.items():
+            sides[side] = summary_figures(sweeps, self.kinematic,
+                                          None if self.axle_compliance is None
+                                          else self.axle_compliance[6:, 6:])
+            out[side] = sides[side]
+        out["axle"] = axle_characteristics(by_side, sides, s, self.axle_compliance)
+        return out
 
 
 @dataclass
@@ -213,10 +233,17 @@ def load_cases(variant: ModelVariant, progress: Progress = _quiet,
     equilibrium."""
     progress(f"model '{variant.label}': K&C load cases")
     model = model or build_model(variant)
-    sweeps = run_load_cases(model, variant.label)
-    compliance = None if variant.kinematic else compliance_matrix(model)
-    return ModelResult(variant.label, variant.kinematic, sweeps, model.solver_settings(),
-                       compliance)
+    s = model.suspension
+    by_side = run_load_cases_sides(model, variant.label)
+    others = {side: sw for side, sw in by_side.items() if side != s.side}
+    if s.axle is None:
+        compliance = None if variant.kinematic else compliance_matrix(model)
+        return ModelResult(variant.label, variant.kinematic, by_side[s.side],
+                           model.solver_settings(), compliance)
+    full = None if variant.kinematic else wheel_compliance(model)
+    return ModelResult(variant.label, variant.kinematic, by_side[s.side],
+                       model.solver_settings(), None if full is None else full[:6, :6],
+                       others, s, full)
 
 
 def fits_stiffness(suspension: Suspension) -> bool:

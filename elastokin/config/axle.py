@@ -1,0 +1,173 @@
+"""The resolved axle: a corner config with an ``axle:`` section becomes one
+:class:`~elastokin.config.suspension.Suspension` carrying both corners.
+
+The other corner is this one mirrored about the vehicle centre plane (y = 0 of the config
+frame, M = diag(1, -1, 1)): every hardpoint, axis and wheel is reflected, every part, joint,
+link, bushing, spring and stop that is not shared is copied under its name with the other
+side's suffix (``front_arm`` -> ``front_arm_right``), parts declared in ``axle.shared`` and
+connections among them and the ground are kept once. A reflected bushing frame is made
+right-handed again (x' = M x, z' = M z, y' = z' x x' = -M y): a deflection along y, about x or
+about z of the mirrored bushing is then the negative of the reflected one, so those three laws
+are reflected (F'(u) = -F(-u)) and their preload components change sign; the mirrored bushing
+then carries exactly the mirror image of the loads. ``axle.other_side`` moves hardpoints and
+changes bushing rates of the other side (asymmetric axles).
+
+Units mm, N, N*mm, deg; the config frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from elastokin.config.schema import LinkSpec, RackSpec
+from elastokin.config.schema_axle import AxleSpec, SteeringSpec
+from elastokin.physics.laws import DirectionLaw
+
+#: a point is on the centre plane within this distance (mm)
+CENTRE_PLANE_TOLERANCE_MM = 1e-6
+#: bushing directions whose deflection changes sign in the mirrored frame (y, rx, rz)
+MIRRORED_DIRECTIONS = (1, 3, 5)
+MIRROR = np.diag([1.0, -1.0, 1.0])
+
+
+def other_side(side: str) -> str:
+    return "right" if side == "left" else "left"
+
+
+def reflected_law(law: DirectionLaw) -> DirectionLaw:
+    """The point reflection F'(u) = -F(-u) of a law (the same law when it is odd)."""
+    return DirectionLaw(tuple(-u for u in reversed(law.deflection)),
+                        tuple(-f for f in reversed(law.load)))
+
+
+def steering_ratio(spec: SteeringSpec, fail) -> DirectionLaw:
+    """Rack travel (mm) against steering-wheel angle (deg) from the steering section."""
+    if spec.ratio_mm_per_rev is not None:
+        return DirectionLaw.linear(spec.ratio_mm_per_rev / 360.0)
+    c = spec.ratio_curve
+    if len(c.steering_wheel_deg) != len(c.rack_travel_mm):
+        raise fail("axle.steering.ratio_curve", "steering_wheel_deg and rack_travel_mm need "
+                   "the same number of points")
+    try:
+        return DirectionLaw(tuple(c.steering_wheel_deg), tuple(c.rack_travel_mm))
+    except ValueError as exc:
+        raise fail("axle.steering.ratio_curve", str(exc)) from None
+
+
+def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
+    """(key, point) of every attachment of ``part`` in a resolved corner (config frame)."""
+    out = []
+    for j in s.joints:
+        out += [(f"connections.{j.name}", j.position_mm)] if part in j.parts else []
+    for b in s.bushings:
+        out += [(f"connections.{b.name}", b.position_mm)] if part in b.parts else []
+    for lk in s.links:
+        out += [(f"connections.{lk.name}", p) for q, p in zip(lk.parts, lk.points_mm)
+                if q == part]
+    for sp in s.springs:
+        out += [(f"springs.{sp.name}", p) for q, p in zip(sp.parts, sp.seats_mm) if q == part]
+    for st in s.stops:
+        out += [(f"stops.{st.name}", p) for q, p in zip(st.parts, st.points_mm) if q == part]
+    if s.wheel.part == part:
+        out.append(("wheel.centre", s.wheel.centre_mm))
+    return out
+
+
+def check_mirror_plane(s, spec: AxleSpec, fail) -> None:
+    """Every corner part lies wholly on its side of the centre plane (a part that reaches the
+    plane or beyond it must be shared)."""
+    y = s.outboard  # the config side's outboard direction
+    for part in s.parts:
+        if part in spec.shared:
+            continue
+        for key, p in corner_points(s, part):
+            if float(p @ y) <= CENTRE_PLANE_TOLERANCE_MM:
+                raise fail(key, f"the vehicle centre plane (y = 0) cuts part '{part}': its "
+                           f"point at y = {p[1]:.6g} mm is not on the {s.side} side; declare "
+                           f"'{part}' in axle.shared (parts spanning both sides are declared "
+                           "once) or move the point")
+
+
+def check_shared(s, spec: AxleSpec, fail) -> None:
+    """Shared parts exist and are not the wheel part; the overrides name corner items only."""
+    for i, name in enumerate(spec.shared):
+        if name not in s.parts:
+            raise fail(f"axle.shared[{i}]", f"no part '{name}' (parts: {', '.join(s.parts)})")
+        if name == s.wheel.part:
+            raise fail(f"axle.shared[{i}]", f"'{name}' carries the wheel: a corner part")
+    once = _declared_once(s, spec)
+    for name in spec.other_side.hardpoints:
+        key = f"axle.other_side.hardpoints.{name}"
+        if name not in s.hardpoints:
+            raise fail(key, f"no hardpoint '{name}' on this corner")
+        users = [c for c, pts in once if name in pts]
+        if users:
+            raise fail(key, f"hardpoint '{name}' belongs to connection '{users[0]}', declared "
+                       "once for both sides (between shared parts or the ground): a shared "
+                       "part cannot be declared again on the other side")
+    bushings = {b.name for b in s.bushings}
+    for name in spec.other_side.connections:
+        if name not in bushings:
+            raise fail(f"axle.other_side.connections.{name}", f"no bushing '{name}' on this "
+                       f"corner (bushings: {', '.join(sorted(bushings)) or 'none'})")
+        if name in {c for c, _ in once}:
+            raise fail(f"axle.other_side.connections.{name}", f"bushing '{name}' joins shared "
+                       "parts or the ground: it is declared once for both sides")
+
+
+def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:
+    """(connection, its hardpoint names) of the connections among shared parts and the
+    ground, from the config's mapping."""
+    keep = set(spec.shared) | {s.ground}
+    out = []
+    for name, c in s.raw["connections"].items():
+        if set(c["parts"]) <= keep:
+            pts = c["at"] if isinstance(c.get("at"), (list, tuple)) else [c.get("at")]
+            names = {p for p in pts if isinstance(p, str)}
+            for k in ("axis", "radial", "torsion_axis"):
+                v = c.get(k)
+                if isinstance(v, dict):
+                    names |= {v.get("from"), v.get("to")} - {None}
+            out.append((name, names))
+    return out
+
+
+def mirrored_hardpoints(s, spec: AxleSpec) -> dict[str, np.ndarray]:
+    """The other side's hardpoints by the corner's names: reflected, then overridden."""
+    out = {k: MIRROR @ np.asarray(v, float) for k, v in s.hardpoints.items()}
+    out.update({k: np.asarray(v, float) for k, v in spec.other_side.hardpoints.items()})
+    return out
+
+
+def mirrored_bushing(b, override) -> object:
+    """The other side's copy of a resolved bushing ``b`` (already resolved in the reflected
+    geometry): laws of the flipped directions reflected and their initial deflection negated
+    (module docstring), then the override's laws (in the mirrored bushing's own frame)."""
+    from elastokin.physics.laws import law_from_spec
+
+    laws = list(b.laws)
+    u0 = np.array(b.initial_deflection, float)
+    for i in MIRRORED_DIRECTIONS:
+        laws[i] = reflected_law(laws[i])
+        u0[i] = -u0[i]
+    if override is not None:
+        for i, d in enumerate(("x", "y", "z", "rx", "ry", "rz")):
+            v = getattr(override.stiffness, d)
+            if v is not None:
+                laws[i] = law_from_spec(v)
+    return replace(b, laws=tuple(laws), initial_deflection=u0)
+
+
+def declared_once(parts: tuple[str, str], shared, ground: str) -> bool:
+    """True for a connection among shared parts and the ground (kept once on an axle)."""
+    return set(parts) <= set(shared) | {ground}
+
+
+def is_link(c) -> bool:
+    return isinstance(c, LinkSpec)
+
+
+def is_rack(c) -> bool:
+    return isinstance(c, RackSpec)

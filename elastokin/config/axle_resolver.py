@@ -1,0 +1,165 @@
+"""Resolving an axle: the other corner resolved in the mirrored geometry
+(:class:`MirroredResolver`) and both corners joined into one
+:class:`~elastokin.config.suspension.Suspension` with the steering rack and the anti-roll bar
+(:func:`expand_axle`). The mirroring rules are in :mod:`elastokin.config.axle`. Units mm, N,
+N*mm, deg; the config frame; every error names the key.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from elastokin.config.axle import (
+    MIRROR,
+    check_mirror_plane,
+    check_shared,
+    declared_once,
+    mirrored_bushing,
+    mirrored_hardpoints,
+    other_side,
+    steering_ratio,
+)
+from elastokin.config.resolver import Resolver
+from elastokin.config.schema import RackSpec
+from elastokin.config.schema_base import AxisBetween
+from elastokin.config.suspension import AntiRollBar, Axle, Steering, Suspension
+from elastokin.physics.joints import CONSTRAINED
+from elastokin.physics.laws import DirectionLaw, law_from_spec
+
+
+class MirroredResolver(Resolver):
+    """The other corner of an axle: the config's corner items resolved with the mirrored
+    hardpoints (and the overrides), explicit vectors reflected, corner parts and items renamed
+    with the other side's suffix; connections declared once (among shared parts and the
+    ground) are left to the config's corner."""
+
+    def __init__(self, corner_resolver: Resolver, corner: Suspension):
+        super().__init__(corner_resolver.spec, corner_resolver.source)
+        spec = self.spec.axle
+        self.other = other_side(self.spec.side)
+        self.suffix = f"_{self.other}"
+        self.shared = set(spec.shared)
+        self.hardpoints = mirrored_hardpoints(corner, spec)
+
+    @property
+    def side(self) -> str:
+        return self.other
+
+    def name(self, name: str) -> str:
+        return name + self.suffix
+
+    def keep(self, parts: tuple[str, str]) -> bool:
+        return not declared_once(parts, self.shared, self.spec.ground)
+
+    def part(self, name: str, key: str) -> str:
+        base = super().part(name, key)
+        return base if base == self.spec.ground or base in self.shared else base + self.suffix
+
+    def axis(self, a, key: str) -> np.ndarray:
+        v = super().axis(a, key)
+        return v if isinstance(a, AxisBetween) else MIRROR @ v
+
+    def bushing_frame(self, c, key: str) -> np.ndarray:
+        R = super().bushing_frame(c, key)
+        if c.euler_zxz_deg is None:
+            return R  # axis and radial reflected already; y = z x x is right-handed
+        return np.column_stack([MIRROR @ R[:, 0], -(MIRROR @ R[:, 1]), MIRROR @ R[:, 2]])
+
+    def bushing(self, name: str, c, parts, pos, key: str):
+        b = super().bushing(name, c, parts, pos, key)
+        corner_name = name.removesuffix(self.suffix)
+        return mirrored_bushing(b, self.spec.axle.other_side.connections.get(corner_name))
+
+
+def resolve_suspension(resolver: Resolver, sha256: str, raw, config_sha256: str = "",
+                       rig_sha256: str | None = None) -> Suspension:
+    """The suspension ``resolver``'s config describes: its corner, or with an ``axle:``
+    section both corners (:func:`expand_axle`). Arguments as :meth:`Resolver.resolve`."""
+    corner = resolver.resolve(sha256, raw, config_sha256, rig_sha256)
+    return corner if resolver.spec.axle is None else expand_axle(resolver, corner)
+
+
+def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
+    """Both corners of the axle of ``corner`` (the config's, resolved by ``resolver``) in one
+    suspension, with the steering and the anti-roll bar (module docstring)."""
+    spec = resolver.spec.axle
+    check_shared(corner, spec, resolver.fail)
+    check_mirror_plane(corner, spec, resolver.fail)
+    mirrored = MirroredResolver(resolver, corner)
+    other = mirrored.corner()
+    suffix = mirrored.suffix
+    joints = corner.joints + other.joints
+    steering = None
+    if spec.steering is not None:
+        steering, rack = resolve_steering(resolver, corner)
+        joints = tuple(rack if j.name == rack.name else j for j in joints)
+    arb = resolve_anti_roll_bar(resolver, corner, suffix)
+    parts = dict(corner.parts)
+    parts.update({n + suffix: p for n, p in corner.parts.items() if n not in spec.shared})
+    hardpoints = dict(corner.hardpoints)
+    hardpoints.update({n + suffix: v for n, v in mirrored.hardpoints.items()})
+    d = resolver.spec.design
+    balance = (d.balance_spring, d.balance_spring + suffix) if d.balance_spring else ()
+    axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
+                spec.vehicle, balance)
+    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints,
+                   links=corner.links + other.links, bushings=corner.bushings + other.bushings,
+                   springs=corner.springs + other.springs, stops=corner.stops + other.stops,
+                   wheels={corner.side: corner.wheel, mirrored.other: other.wheel}, axle=axle)
+
+
+def resolve_steering(resolver: Resolver, corner: Suspension):
+    """(the steering, the rack joint as a sliding joint): the connection named by
+    ``axle.steering.rack`` must be of type ``rack``, between shared parts or the ground."""
+    spec = resolver.spec
+    st = spec.axle.steering
+    key = "axle.steering.rack"
+    c = spec.connections.get(st.rack)
+    racks = [n for n, v in spec.connections.items() if isinstance(v, RackSpec)]
+    if not isinstance(c, RackSpec):
+        raise resolver.fail(key, f"'{st.rack}' is not a connection of type rack (type-rack "
+                            f"connections: {', '.join(racks) or 'none'})")
+    part = c.parts[1]
+    if not declared_once(c.parts, spec.axle.shared, spec.ground) or part == spec.ground:
+        raise resolver.fail(key, f"the rack part '{part}' spans both sides: declare it in "
+                            "axle.shared (and the part the rack slides in, unless the ground)")
+    joint = next(j for j in corner.joints if j.name == st.rack)
+    if abs(joint.offset_mm) > st.limit_mm:
+        raise resolver.fail(f"connections.{st.rack}.travel_mm", f"{joint.offset_mm:g} mm is "
+                            f"beyond the rack's travel limit axle.steering.limit_mm "
+                            f"{st.limit_mm:g}")
+    ratio = steering_ratio(st, resolver.fail)
+    steering = Steering(st.rack, part, joint.position_mm, joint.frame[:, 2], joint.offset_mm,
+                        st.limit_mm, ratio)
+    return steering, replace(joint, kind="translational",
+                             constrained=CONSTRAINED["translational"], offset_mm=0.0)
+
+
+def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
+                          ) -> AntiRollBar | None:
+    """The anti-roll bar's torsion spring between this corner's bar half and its mirror."""
+    a = resolver.spec.axle.anti_roll_bar
+    if a is None:
+        return None
+    key = "axle.anti_roll_bar"
+    part = resolver.part(a.part, key + ".part")
+    if part == resolver.spec.ground or part in resolver.spec.axle.shared or \
+            part == corner.wheel.part:
+        raise resolver.fail(key + ".part", f"'{part}' must be this corner's half of the bar "
+                            "(a moving part, not shared, not the wheel's)")
+    pos = resolver.point(a.point, key + ".point")
+    if abs(pos[1]) > 1e-3:
+        raise resolver.fail(key + ".point", f"the bar's torsion spring joins the halves on "
+                            f"the vehicle centre plane (y = 0); the point is at y = "
+                            f"{pos[1]:.6g} mm")
+    axis = resolver.axis(a.axis, key + ".axis")
+    if a.rate_Nmm_per_deg is not None:
+        law = DirectionLaw.linear(a.rate_Nmm_per_deg)
+    else:
+        try:
+            law = law_from_spec(a.curve)
+        except ValueError as exc:
+            raise resolver.fail(key + ".curve", str(exc)) from None
+    return AntiRollBar((part, part + suffix), pos, resolver.frame_from_z(axis), law)

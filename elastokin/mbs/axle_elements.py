@@ -1,0 +1,102 @@
+"""Elements of stops and axles in Exudyn: bump and rebound stops (unilateral springs along the
+line between two points), the anti-roll bar's torsion spring between its two halves, and the
+steering lock (the rack held at its travel along its axis unless the rig drives it).
+
+Units mm, N, N*mm; rotations rad inside Exudyn, the laws take mm and deg; the config frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
+from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectConnectorSpringDamper
+
+from elastokin.mbs.exudyn_api import exu
+
+#: the support that holds or drives the steering rack (an axle with steering)
+STEERING_LOCK = "steering:rack"
+RAD = np.pi / 180.0
+
+
+def _max(a, b):
+    return a if a > b else b
+
+
+def stop_function(law, kind: str, symbolic: bool):
+    """A ``springForceUserFunction`` of a stop: Exudyn's spring force (+ pulls the points
+    together) of the penetration beyond contact, ``deltaL`` being the length less the
+    contact length: a bump stop pushes apart when shorter, a rebound stop pulls together
+    when longer."""
+    maxf = exu.symbolic.max if symbolic else _max
+
+    def bump(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
+        return -law.expression(maxf(-deltaL, 0.0), maxf)
+
+    def rebound(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
+        return law.expression(maxf(deltaL, 0.0), maxf)
+
+    return bump if kind == "bump" else rebound
+
+
+def add_stop(model, stop) -> int:
+    """The stop ``stop`` (:class:`~elastokin.config.suspension.Stop`) between its parts."""
+    mbs = model.mbs
+    m0 = model.position_marker(stop.parts[0], stop.points_mm[0])
+    m1 = model.position_marker(stop.parts[1], stop.points_mm[1])
+    obj = mbs.AddObject(ObjectConnectorSpringDamper(
+        markerNumbers=[m0, m1], referenceLength=stop.contact_length_mm, stiffness=0.0,
+        damping=0.0, name=f"stop:{stop.name}"))
+    symbolic = model.options.user_functions == "symbolic"
+    uf = stop_function(stop.law, stop.kind, symbolic)
+    if symbolic:
+        uf = CreateSymbolicUserFunction(mbs, uf, "springForceUserFunction", obj)
+        model.bushing_functions.append(uf)  # the expression tree must outlive the model
+    mbs.SetObjectParameter(obj, "springForceUserFunction", uf)
+    return obj
+
+
+def add_anti_roll_bar(model, bar) -> int:
+    """The anti-roll bar's torsion spring (:class:`~elastokin.config.suspension.AntiRollBar`):
+    a rigid-body spring between the two halves at the bar's centre, acting about its axis
+    only (the halves are located by their mounts and drop links)."""
+    mbs = model.mbs
+    m0 = model.rigid_marker(bar.parts[0], bar.position_mm, bar.frame)
+    m1 = model.rigid_marker(bar.parts[1], bar.position_mm, bar.frame)
+    k = bar.law.rate_at_zero / RAD  # N*mm/rad
+    obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
+        markerNumbers=[m0, m1], stiffness=np.diag([0.0] * 5 + [k]), damping=np.zeros((6, 6)),
+        useIntrinsicFormulation=True, name="anti_roll_bar"))
+    if not bar.law.is_linear:
+        symbolic = model.options.user_functions == "symbolic"
+        maxf = exu.symbolic.max if symbolic else _max
+        law = bar.law
+
+        def torsion(mbs, t, itemNumber, displacement, rotation, velocity, angularVelocity,
+                    stiffness, damping, rotJ0, rotJ1, offset):
+            return [0.0, 0.0, 0.0, 0.0, 0.0,
+                    law.expression(rotation[2] * 57.29577951308232, maxf)]
+
+        uf = torsion
+        if symbolic:
+            uf = CreateSymbolicUserFunction(mbs, torsion, "springForceTorqueUserFunction", obj)
+            model.bushing_functions.append(uf)
+        mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
+    return obj
+
+
+def add_steering_lock(model, steering) -> str:
+    """The support holding the rack (:class:`~elastokin.config.suspension.Steering`) along
+    its axis at its travel; active in every solve, at the travel unless a path is given."""
+    z = np.asarray(steering.axis, float)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = helper - (helper @ z) * z
+    x /= np.linalg.norm(x)
+    frame = np.column_stack([x, np.cross(z, x), z])
+    model.add_support(STEERING_LOCK, steering.part, steering.position_mm, (0, 0, 1, 0, 0, 0),
+                      frame=frame)
+    model.locks[STEERING_LOCK] = np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0])
+    # active from the start, so that every constraint count sees the rack held
+    model.mbs.SetObjectParameter(model.supports[STEERING_LOCK]["object"], "activeConnector",
+                                 True)
+    model.mbs.Assemble()
+    return STEERING_LOCK

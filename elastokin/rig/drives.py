@@ -1,0 +1,240 @@
+"""The virtual K&C rig's load cases as drives (plain data, pure numpy): what the rig does to
+every wheel in one load case, step by step.
+
+A :class:`Drive` holds, per step, each wheel's pad height (displacement control, x and y free)
+or none (force control, the patch free), the forces at its contact patch and the loads at its
+wheel centre (:class:`~elastokin.rig.pad.WheelInputs`), and on an axle the steering rack's
+travel and, for roll, the heave beam's load; with the input channel and branch label of every
+step and which steps are recorded.
+
+Corner load cases keep their meaning on an axle by loading every wheel in phase (the same
+force in the vehicle frame; the vertical cases on every wheel): on an axle ``lateral_force`` is
+ADAMS/Car's lateral force in phase, ``longitudinal_force_patch`` braking and
+``longitudinal_force_centre`` traction on both wheels, ``aligning_torque`` aligning torque in
+phase. The axle load cases (opposite, single wheel and roll travel, steering, static load,
+lateral force in anti-phase) run on axles only.
+
+Frames and units: the config frame, mm, N, N*mm, deg; forces and torques are those the rig
+applies to the tyre (ISO 8855 vehicle axes).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from elastokin.config.schema_rig import (
+    ForceSweepSpec,
+    RigSpec,
+    RollSpec,
+    SteeringSweepSpec,
+    TorqueSweepSpec,
+    TravelSpec,
+    VerticalForceSpec,
+)
+from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
+from elastokin.rig.channels import FORCE_CASES, LOAD_CASES
+from elastokin.rig.pad import WheelInputs
+from elastokin.rig.paths import leg, sweep_path, travel_path, vertical_force_path
+
+#: the axle's load cases, in the order they run (after the corner cases)
+AXLE_CASES = ("opposite_travel", "single_wheel_travel", "roll_vertical_force", "steering",
+              "static_load", "lateral_force_anti_phase")
+
+
+@dataclass(frozen=True)
+class Drive:
+    """One load case as the rig drives it (config frame, mm, N, N*mm).
+
+    ``inputs``: the rig input per step (column ``input_column`` of the sweeps); ``branch``:
+    each step's branch label; ``wheels``: each wheel's inputs by side; ``rack_travel_mm``:
+    the steering rack's travel per step (None: held); ``heave_load_N``: roll, the heave beam's
+    total vertical load per step (the pads' heights then relative to it); ``columns``: more
+    columns of the sweeps the drive defines (e.g. the steering-wheel angle); ``recorded``:
+    which steps the sweeps keep (None: all).
+    """
+
+    load_case: str
+    input_column: str
+    inputs: np.ndarray
+    branch: np.ndarray
+    wheels: dict[str, WheelInputs]
+    rack_travel_mm: np.ndarray | None = None
+    heave_load_N: np.ndarray | None = None
+    columns: dict[str, np.ndarray] = field(default_factory=dict)
+    recorded: np.ndarray | None = None
+
+
+def _wheels(s: Suspension, n: int, z=None, pad=None, centre=None, per_side=None
+            ) -> dict[str, WheelInputs]:
+    """Every wheel with the same inputs (in phase), or per side from ``per_side``."""
+    pad = np.tile(s.up * s.design.wheel_load_N, (n, 1)) if pad is None else pad
+    centre = np.zeros((n, 6)) if centre is None else centre
+    out = {side: WheelInputs(z, pad, centre) for side in s.wheels}
+    out.update(per_side or {})
+    return out
+
+
+def parallel_travel_drive(suspension: Suspension, spec: TravelSpec | None = None,
+                          approach_step_mm: float | None = None,
+                          record_approach: bool = True) -> Drive:
+    """Displacement-controlled parallel wheel travel (every wheel's pad moves together) at
+    the design wheel load: the approach from the design position to rebound (in steps of
+    ``approach_step_mm``, default the stroke's), the stroke and the return. Without
+    ``record_approach`` the sweeps start at the rebound point."""
+    s = suspension
+    spec = spec or s.rig.parallel_travel
+    z, branch = travel_path(spec.rebound_mm, spec.bump_mm, spec.step_mm, spec.unloading,
+                            approach_step_mm)
+    n = z.size
+    return Drive("parallel_travel", "pad_z_mm", z, branch,
+                 _wheels(s, n, z, np.zeros((n, 3))),
+                 recorded=None if record_approach else branch != "approach")
+
+
+def other_travel_drive(suspension: Suspension, case: str, spec: TravelSpec) -> Drive:
+    """Opposite wheel travel (the other wheel's pad the opposite of the config side's) or
+    single wheel travel (the other pad held at its design height), displacement control."""
+    s = _axle(suspension, case)
+    z, branch = travel_path(spec.rebound_mm, spec.bump_mm, spec.step_mm, spec.unloading)
+    n = z.size
+    other = s.sides[1]
+    zero = np.zeros((n, 3))
+    other_z = -z if case == "opposite_travel" else np.zeros(n)
+    return Drive(case, "pad_z_mm", z, branch, _wheels(
+        s, n, z, zero, per_side={other: WheelInputs(other_z, zero, np.zeros((n, 6)))}))
+
+
+def roll_drive(suspension: Suspension, spec: RollSpec) -> Drive:
+    """Roll and vertical force: body roll swept 0 -> +A -> -A -> 0 (deg, + when the body's
+    left side rises: the left pad goes down, the right one up, by half the track times the
+    tangent), the pads on the heave beam that carries twice the design wheel load."""
+    s = _axle(suspension, "roll_vertical_force")
+    roll, branch = sweep_path(spec.amplitude_deg, spec.step_deg)
+    patches = {side: w.contact_patch_mm for side, w in s.wheels.items()}
+    track = abs(float((patches["left"] - patches["right"]) @ s.left))
+    half = 0.5 * track * np.tan(np.radians(roll))
+    n = roll.size
+    zero = np.zeros((n, 3))
+    wheels = {"left": WheelInputs(-half, zero, np.zeros((n, 6))),
+              "right": WheelInputs(half, zero, np.zeros((n, 6)))}
+    return Drive("roll_vertical_force", "roll_angle_deg", roll, branch, wheels,
+                 heave_load_N=np.full(n, 2.0 * s.design.wheel_load_N))
+
+
+def steering_drive(suspension: Suspension, spec: SteeringSweepSpec) -> Drive:
+    """Steering: the steering wheel turned 0 -> +A -> -A -> 0 (deg; A: ``amplitude_deg`` or
+    lock to lock), the rack following through the ratio, every wheel at the design load
+    (force control)."""
+    s = _axle(suspension, "steering")
+    st = s.axle.steering
+    if st is None:
+        raise ConfigError(f"{s.source}: key 'rig.steering': the axle has no steering "
+                          "(axle.steering); leave the load case out (steering: null)")
+    limit = st.steering_wheel_limit_deg()
+    amplitude = spec.amplitude_deg if spec.amplitude_deg is not None else limit
+    if amplitude > limit * (1.0 + 1e-9):
+        raise ConfigError(f"{s.source}: key 'rig.steering.amplitude_deg': {amplitude:g} deg "
+                          f"takes the rack beyond its travel limit (axle.steering.limit_mm "
+                          f"{st.limit_mm:g} mm: {limit:.4g} deg of steering wheel)")
+    swa, branch = sweep_path(amplitude, spec.step_deg)
+    rack = st.travel_mm + st.rack_travel_mm(swa)
+    return Drive("steering", "steering_wheel_angle_deg", swa, branch, _wheels(s, swa.size),
+                 rack_travel_mm=rack, columns={"rack_travel_mm": rack})
+
+
+def static_load_drive(suspension: Suspension, spec) -> Drive:
+    """Static load: from the design wheel loads to the given loads at each contact patch in
+    equal steps (force control; ``load_fraction`` 0..1)."""
+    s = _axle(suspension, "static_load")
+    frac = leg(0.0, 1.0, 1.0 / spec.steps)
+    n = frac.size
+    design = s.up * s.design.wheel_load_N
+    wheels = {}
+    for side in s.sides:
+        given = getattr(spec, side)
+        pad = design + frac[:, None] * (np.asarray(given.force_N) - design)
+        centre = np.zeros((n, 6))
+        centre[:, 3:] = frac[:, None] * np.asarray(given.torque_Nmm)
+        wheels[side] = WheelInputs(None, pad, centre)
+    return Drive("static_load", "load_fraction", frac, np.array(["rise"] * n), wheels)
+
+
+def vertical_force_drive(suspension: Suspension,
+                         spec: VerticalForceSpec | None = None) -> Drive:
+    """Vertical force at every contact patch (force control, patch free): from the design
+    wheel load down to ``min_N`` (approach), up to ``max_N`` (rise) and back to ``min_N``."""
+    s = suspension
+    spec = spec or s.rig.vertical_force
+    fz, branch = vertical_force_path(s.design.wheel_load_N, spec.min_N, spec.max_N,
+                                     spec.step_N)
+    return Drive("vertical_force", "vertical_force_N", fz, branch,
+                 _wheels(s, fz.size, pad=fz[:, None] * s.up))
+
+
+def force_drive(suspension: Suspension, case: str,
+                spec: ForceSweepSpec | TorqueSweepSpec | None = None) -> Drive:
+    """A force (or aligning torque) swept 0 -> +A -> -A -> 0 at the design wheel load on
+    every wheel in phase (``lateral_force_anti_phase``: the other wheel's force opposite),
+    the contact patches free (force control)."""
+    s = suspension
+    lc = LOAD_CASES[case]
+    spec = spec or getattr(s.rig, case)
+    if isinstance(spec, TorqueSweepSpec):
+        values, branch = sweep_path(spec.amplitude_Nmm, spec.step_Nmm)
+    else:
+        values, branch = sweep_path(spec.amplitude_N, spec.step_N)
+    axis = getattr(s, lc.direction)
+    n = values.size
+    wheels = {}
+    for i, side in enumerate(s.sides):
+        sign = -1.0 if (case == "lateral_force_anti_phase" and i) else 1.0
+        pad = np.tile(s.up * s.design.wheel_load_N, (n, 1))
+        centre = np.zeros((n, 6))
+        if lc.where == "patch":
+            pad = pad + sign * values[:, None] * axis
+        elif lc.where == "centre":
+            centre[:, :3] = sign * values[:, None] * axis
+        else:
+            centre[:, 3:] = sign * values[:, None] * axis
+        wheels[side] = WheelInputs(None, pad, centre)
+    return Drive(case, lc.input, values, branch, wheels)
+
+
+def _axle(suspension: Suspension, case: str) -> Suspension:
+    if suspension.axle is None:
+        raise ConfigError(f"{suspension.source}: key 'rig.{case}': an axle load case; the "
+                          "config is one corner (add an 'axle' section)")
+    return suspension
+
+
+def drives(suspension: Suspension, rig: RigSpec | None = None,
+           kinematic: bool = False) -> list[Drive]:
+    """Every load case of ``rig`` (default: the config's), parallel travel first, the axle's
+    cases last (on an axle). A kinematic model runs the travel, vertical and steering cases
+    only: without bushings its answer to a lateral or longitudinal load is rigid-body
+    statics, not compliance."""
+    s = suspension
+    rig = rig or s.rig
+    out = [parallel_travel_drive(s, rig.parallel_travel)]
+    if rig.vertical_force is not None:
+        out.append(vertical_force_drive(s, rig.vertical_force))
+    if not kinematic:
+        out += [force_drive(s, case, getattr(rig, case)) for case in FORCE_CASES
+                if getattr(rig, case) is not None and LOAD_CASES[case].corner]
+    if s.axle is None:
+        return out
+    for case in ("opposite_travel", "single_wheel_travel"):
+        if getattr(rig, case) is not None:
+            out.append(other_travel_drive(s, case, getattr(rig, case)))
+    if rig.roll_vertical_force is not None:
+        out.append(roll_drive(s, rig.roll_vertical_force))
+    if rig.steering is not None and s.axle.steering is not None:
+        out.append(steering_drive(s, rig.steering))
+    if not kinematic and rig.static_load is not None:
+        out.append(static_load_drive(s, rig.static_load))
+    if not kinematic and rig.lateral_force_anti_phase is not None:
+        out.append(force_drive(s, "lateral_force_anti_phase", rig.lateral_force_anti_phase))
+    return out
