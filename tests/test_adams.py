@@ -320,6 +320,7 @@ def mcpherson():
     data = read_yaml(Path(__file__).parents[1] / "configs" / "pseudo_mcpherson.yaml")[0]
     del data["measurements"]
     data.pop("kc_test", None)
+    data.pop("axle")  # an ADAMS/Car subsystem is the corner (its left/right pairs symmetric)
     s = suspension_from_dict(data, "pseudo_mcpherson.yaml")
     return data, s, design_state(s).bushing_preload
 

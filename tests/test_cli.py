@@ -65,7 +65,9 @@ def test_kc_csv_long_format(kc_out):
     rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
     models = {r["model"] for r in rows}
     assert models == {"test", "initial", "identified", "identified_stiffness"}
-    stroke = [r for r in rows if r["model"] == "initial" and r["branch"] == "stroke"]
+    assert {r["side"] for r in rows} == {"left", "right"}  # the case study is an axle
+    stroke = [r for r in rows if r["model"] == "initial" and r["branch"] == "stroke"
+              and r["load_case"] == "parallel_travel" and r["side"] == "left"]
     assert len(stroke) == 181  # -90 .. +90 mm at 1 mm
     for col in ("wheel_travel_mm", "wheel_centre_x_mm", "wheel_centre_y_mm",
                 "wheel_centre_z_mm", "toe_deg", "camber_deg", "contact_patch_fz_N",
@@ -190,7 +192,7 @@ def test_rig_file_replaces_the_configs_load_cases(case_dict, tmp_path, case_path
     rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
     assert {r["load_case"] for r in rows} == {"parallel_travel"}
     stroke = [float(r["wheel_travel_mm"]) for r in rows
-              if r["model"] == "initial" and r["branch"] == "stroke"]
+              if r["model"] == "initial" and r["branch"] == "stroke" and r["side"] == "left"]
     assert len(stroke) == 51 and stroke[0] == pytest.approx(-50, abs=1.0)
     assert not [r for r in rows if r["branch"] == "return"]
 

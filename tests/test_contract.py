@@ -24,7 +24,7 @@ from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.config.variants import DesignState, ModelVariant, kinematic
 from elastokin.mbs.design import build_model, design_state
 from elastokin.rig.channels import LOAD_CASES, channel
-from elastokin.rig.load_cases import drives, run_drive, static_equilibrium
+from elastokin.rig.load_cases import drives, run_drive, run_drive_sides, static_equilibrium
 
 from .conftest import CASE
 
@@ -225,13 +225,11 @@ def _transform_config(data: dict, M: np.ndarray, side: str | None, frame: dict |
 
 
 def _vehicle_columns(data: dict):
+    """Every load case's sweeps by (load case, wheel side)."""
     s = suspension_from_dict(data, "mirror.yaml")
     model = build_model(s)
-    out = {}
-    for d in drives(s):
-        sw = run_drive(model, "m", d)
-        out[d.load_case] = sw
-    return out
+    return {(d.load_case, sw.side): sw for d in drives(s)
+            for sw in run_drive_sides(model, "m", d)}
 
 
 @pytest.fixture(scope="module", params=[CASE, DW], ids=["pseudo_mcpherson", "double_wishbone"])
@@ -250,19 +248,22 @@ def mirror_sets(request):
 @pytest.mark.parametrize("which", ["mirrored", "other_frame"])
 def test_side_and_frame_invariance(mirror_sets, which):
     """Per-wheel quantities (toe, camber, travel) and vehicle-axis quantities (longitudinal)
-    are the same on the mirrored corner and in the other frame; lateral quantities in the
-    vehicle's axes flip sign with the side. The mirror of a lateral force or aligning torque
-    to the vehicle's left is one to its right: those cases are compared in the other frame
-    only. 1e-7: Newton tolerance of each solve."""
+    are the same in the other frame, and on the mirrored config: a mirrored axle is the same
+    axle (every wheel, every load case, its right corner now the config's); a mirrored corner
+    is the other side's corner, whose lateral quantities in the vehicle's axes flip sign (the
+    mirror of a lateral force or aligning torque to the vehicle's left is one to its right:
+    those cases are compared in the other frame only). 1e-7: Newton tolerance of each solve."""
     a, b = mirror_sets["original"], mirror_sets[which]
-    sign = -1.0 if which == "mirrored" else 1.0
-    for case, sw in a.items():
-        if which == "mirrored" and case in ("lateral_force", "aligning_torque"):
+    axle = {side for _, side in a} == {"left", "right"}
+    corner_mirror = which == "mirrored" and not axle
+    sign = -1.0 if corner_mirror else 1.0
+    for (case, side), sw in a.items():
+        if corner_mirror and case in ("lateral_force", "aligning_torque"):
             continue
-        other = b[case]
+        other = b[(case, "right" if corner_mirror else side)]
         for col in ("toe_deg", "camber_deg", "wheel_travel_mm", "wheel_centre_longitudinal_mm"):
             np.testing.assert_allclose(other.columns[col], sw.columns[col], atol=1e-7,
-                                       err_msg=f"{case} {col}")
+                                       err_msg=f"{case} {side} {col}")
         np.testing.assert_allclose(other.columns["wheel_centre_lateral_mm"],
                                    sign * sw.columns["wheel_centre_lateral_mm"], atol=1e-7,
-                                   err_msg=f"{case} lateral")
+                                   err_msg=f"{case} {side} lateral")

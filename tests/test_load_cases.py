@@ -33,9 +33,12 @@ def test_sweep_path_by_hand():
 
 
 def test_every_load_case_runs(sweeps):
+    """The corner's cases, then the axle's (the case study is a mirrored axle without
+    steering; no static loads are given)."""
     assert [sw.load_case for sw in sweeps] == [
         "parallel_travel", "vertical_force", "lateral_force", "longitudinal_force_patch",
-        "longitudinal_force_centre", "aligning_torque"]
+        "longitudinal_force_centre", "aligning_torque", "opposite_travel",
+        "single_wheel_travel", "roll_vertical_force", "lateral_force_anti_phase"]
 
 
 def test_loading_and_unloading_coincide_without_friction(sweeps):

@@ -215,6 +215,10 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
                 ident = identify_geometry(s)
                 s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
                                          s.sha256)
+            # an ADAMS/Car subsystem is symmetric: its left/right pairs come from the corner
+            from elastokin.config.variants import corner
+
+            s = corner(s)
             preload, springs = None, None
             if (s.design.balance_bushing_preloads and s.bushings) or s.design.balance_spring:
                 from elastokin.mbs.design import design_state

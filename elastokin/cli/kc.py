@@ -64,7 +64,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
     load case of the config's rig, for each model (initial and identified with CMM data), and
     compare them with the config's K&C test data (kc_test).
 
-    Writes kc.csv (one row per model, load case and step; units in column names),
+    Writes kc.csv (one row per model, load case, wheel side and step; units in column names),
     summary.json (characteristics, errors against the test, Table-3 style bushing
     deflections, provenance), the charts (PNG; --svg: also SVG) and a self-contained
     report.html.

@@ -4,6 +4,8 @@ vehicle axes, forces and torques the rig applies to the tyre."""
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import Field, model_validator
 
 from elastokin.config import bounds
@@ -73,8 +75,8 @@ class TorqueSweepSpec(StrictModel):
 
 
 class OppositeTravelSpec(TravelSpec):
-    """Opposite wheel travel (axle): the config side's pad follows the travel, the other's
-    the opposite (mm)."""
+    """Opposite wheel travel (axle): the left wheel's pad follows the travel, the right's the
+    opposite (mm; ADAMS/Car's opposite wheel travel)."""
 
     rebound_mm: float = -50.0
     bump_mm: float = 50.0
@@ -82,8 +84,10 @@ class OppositeTravelSpec(TravelSpec):
 
 
 class SingleWheelTravelSpec(OppositeTravelSpec):
-    """Single wheel travel (axle): the config side's pad moves, the other is held at its
-    design height (mm)."""
+    """Single wheel travel (axle): the pad of the ``moving`` wheel moves (mm), the other is
+    held at its design height."""
+
+    moving: Literal["left", "right"] = "left"
 
 
 class RollSpec(StrictModel):

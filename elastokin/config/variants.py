@@ -122,3 +122,51 @@ def with_hardpoints(suspension: Suspension, hardpoints: Mapping[str, np.ndarray]
 def relabelled(suspension: Suspension, source: str) -> Suspension:
     """The same suspension under another source name (what error messages call it)."""
     return dataclasses.replace(suspension, source=source)
+
+
+def corner(suspension: Suspension) -> Suspension:
+    """The config side's corner of an axle: its config without the ``axle`` section, resolved
+    again (what CMM identification and the stiffness fit of a decoupled axle work on);
+    overrides applied to ``suspension`` through this module are not carried over. A corner
+    is returned as it is."""
+    if suspension.axle is None:
+        return suspension
+    from elastokin.config.resolver import Resolver
+    from elastokin.config.schema import SuspensionFile
+
+    raw = {k: v for k, v in suspension.raw.items() if k != "axle"}
+    resolver = Resolver(SuspensionFile.model_validate(raw), suspension.source)
+    alone = resolver.resolve(suspension.sha256, raw, suspension.config_sha256,
+                             suspension.rig_sha256)
+    return dataclasses.replace(alone, rig=suspension.rig, rig_source=suspension.rig_source)
+
+
+def side_couplings(suspension: Suspension) -> list[str]:
+    """What couples the two sides of an axle (shared parts, the anti-roll bar, the steering
+    rack); empty for a corner, or an axle whose corners are independent (then each side
+    responds to its own wheel's inputs as its corner alone would)."""
+    a = suspension.axle
+    if a is None:
+        return []
+    out = [f"shared part '{p}'" for p in a.shared]
+    if a.anti_roll_bar is not None:
+        out.append("the anti-roll bar")
+    if a.steering is not None and a.steering.part not in a.shared:
+        out.append("the steering rack")
+    return out
+
+
+def mirrored_design(corner_state: DesignState, suffix: str) -> DesignState:
+    """The design state of a mirrored axle from its corner's: each spring's force and each
+    bushing's preload (its frame mirrored: components y, rx, rz negated) again for the other
+    side's copy, named with ``suffix``."""
+    from elastokin.config.axle import MIRRORED_DIRECTIONS
+
+    flip = np.ones(6)
+    flip[list(MIRRORED_DIRECTIONS)] = -1.0
+    springs = dict(corner_state.spring_force_N)
+    springs.update({n + suffix: f for n, f in corner_state.spring_force_N.items()})
+    bushings = dict(corner_state.bushing_preload)
+    bushings.update({n + suffix: flip * np.asarray(p, float)
+                     for n, p in corner_state.bushing_preload.items()})
+    return DesignState(springs, bushings)

@@ -25,7 +25,8 @@ __all__ = [
 
 #: the columns of kc.csv that are not channels: kept under their own names
 _INDEX = {"model": "elastokin model label", "load_case": "elastokin load case",
-          "step": "step number", "branch": "sweep branch"}
+          "side": "the wheel's side (vehicle left/right)", "step": "step number",
+          "branch": "sweep branch"}
 #: config-frame components, converted to the ADAMS/Car frame (X rearward, Y right, Z up)
 FRAME_CHANNELS = {c.name: c.adams_frame for c in CHANNEL_LIST if c.adams_frame}
 

@@ -46,7 +46,7 @@ import numpy as np
 from elastokin.config.measurements import check_measurements, hardpoint_name
 from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
-from elastokin.config.variants import DesignState
+from elastokin.config.variants import DesignState, corner
 from elastokin.errors import ConfigError, MeasurementError
 from elastokin.formats.cmm_parts import PartMeasurement, read_assembly, read_part, read_truth
 from elastokin.physics.pose import (
@@ -229,10 +229,11 @@ def _clean(v, digits: int = 9) -> list[float]:
 def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m: None
              ) -> Identification:
     """Identify the geometry of ``suspension`` from its ``measurements`` (see module doc):
-    part poses, joints in the vehicle frame, the initial and identified configs. The
+    part poses, joints in the vehicle frame, the initial and identified configs (of the
+    config's corner, on an axle). The
     identified config still asks for its bushing preloads to be balanced; the study that
     solves them calls :func:`apply_design_loads` (:mod:`elastokin.studies.identification`)."""
-    s = suspension
+    s = corner(suspension)  # on an axle: the measured corner, the config's side
     m = s.measurements
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: nothing to identify")

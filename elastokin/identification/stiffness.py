@@ -411,6 +411,10 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
     beside the fitted ones, never used in fitting. ``workers``: processes the load cases
     of a model run are spread over (default :func:`fit_workers`; 1 runs everything in this
     process); the result does not depend on it."""
+    if suspension.axle is not None:
+        raise ConfigError(f"{suspension.source}: the stiffness fit runs on one corner (its "
+                          "test data are that wheel's): pass the axle's corner "
+                          "(elastokin.config.variants.corner)")
     spec = spec or StiffnessIdentificationSpec()
     params = parameters(suspension, spec)
     # the fit runs the test's load cases over the test's ranges, whatever the report's rig

@@ -16,6 +16,10 @@ from elastokin.mbs.exudyn_api import exu
 #: the support that holds or drives the steering rack (an axle with steering)
 STEERING_LOCK = "steering:rack"
 RAD = np.pi / 180.0
+#: the anti-roll bar's halves held together at its centre (N/mm and N*mm/rad): about 1000
+#: times a rubber bushing's rates, a rigid one-piece bar to the solver and its sensitivities
+BAR_TRANSLATION_RATE = 1.0e6
+BAR_BENDING_RATE = 1.0e10
 
 
 def _max(a, b):
@@ -56,15 +60,19 @@ def add_stop(model, stop) -> int:
 
 
 def add_anti_roll_bar(model, bar) -> int:
-    """The anti-roll bar's torsion spring (:class:`~elastokin.config.suspension.AntiRollBar`):
-    a rigid-body spring between the two halves at the bar's centre, acting about its axis
-    only (the halves are located by their mounts and drop links)."""
+    """The anti-roll bar's centre (:class:`~elastokin.config.suspension.AntiRollBar`): a
+    rigid-body spring between the two halves, the torsion spring about the bar's axis and,
+    in the other five directions, the one-piece bar (:data:`BAR_TRANSLATION_RATE`,
+    :data:`BAR_BENDING_RATE`: its halves keep their relative position and bending angle, as
+    ADAMS/Car's revolute joint between them, without a redundant constraint when the mounts
+    are ideal revolutes)."""
     mbs = model.mbs
     m0 = model.rigid_marker(bar.parts[0], bar.position_mm, bar.frame)
     m1 = model.rigid_marker(bar.parts[1], bar.position_mm, bar.frame)
     k = bar.law.rate_at_zero / RAD  # N*mm/rad
+    rates = [BAR_TRANSLATION_RATE] * 3 + [BAR_BENDING_RATE] * 2
     obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-        markerNumbers=[m0, m1], stiffness=np.diag([0.0] * 5 + [k]), damping=np.zeros((6, 6)),
+        markerNumbers=[m0, m1], stiffness=np.diag(rates + [k]), damping=np.zeros((6, 6)),
         useIntrinsicFormulation=True, name="anti_roll_bar"))
     if not bar.law.is_linear:
         symbolic = model.options.user_functions == "symbolic"
@@ -73,7 +81,10 @@ def add_anti_roll_bar(model, bar) -> int:
 
         def torsion(mbs, t, itemNumber, displacement, rotation, velocity, angularVelocity,
                     stiffness, damping, rotJ0, rotJ1, offset):
-            return [0.0, 0.0, 0.0, 0.0, 0.0,
+            return [BAR_TRANSLATION_RATE * displacement[0],
+                    BAR_TRANSLATION_RATE * displacement[1],
+                    BAR_TRANSLATION_RATE * displacement[2],
+                    BAR_BENDING_RATE * rotation[0], BAR_BENDING_RATE * rotation[1],
                     law.expression(rotation[2] * 57.29577951308232, maxf)]
 
         uf = torsion

@@ -161,8 +161,9 @@ def add_ideal_bushing(model, b: Bushing, entry: dict, rates_rad: np.ndarray) -> 
     entry["ideal"] = model.mbs.AddObject(ObjectJointGeneric(
         markerNumbers=[m0, m1], constrainedAxes=constrained.tolist(),
         name=f"ideal:{b.name}"))
+    offset = np.r_[0.0, 0.0, 0.0, model.balancing_offsets.get(b.name, np.zeros(3))]
     entry["object"] = model.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
         markerNumbers=[m0, m1], stiffness=np.diag(np.r_[0.0, 0.0, 0.0, kr]),
-        damping=np.zeros((6, 6)), name=f"bushing:{b.name}"))
+        damping=np.zeros((6, 6)), offset=offset, name=f"bushing:{b.name}"))
     entry["linear"] = True
     return entry

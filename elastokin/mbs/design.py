@@ -14,15 +14,20 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ModelError, SolverError
+from elastokin.mbs.bushings import BALANCING_ROTATION
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.solve import simulation_settings, solve_path
+from elastokin.physics.joints import CONSTRAINED
 
 #: the support holding the contact patch height (design balancing, assembly check)
 PATCH_SUPPORT = "design:contact_patch"
 #: secant steps at most when balancing the spring preload
 BALANCE_ITERATIONS = 20
+#: the balanced pad loads match the wheel load to this fraction of it (the static solves'
+#: own accuracy is ~1e-10 of it: their Newton tolerance is 1e-8 of residuals ~1e2 N)
+BALANCE_TOLERANCE = 1e-8
 HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
@@ -52,8 +57,9 @@ def design_state(suspension: Suspension) -> DesignState:
     (translations by exact constraints, rotations by stiff springs), so the design position is
     a structure whose loads are linear in the balanced spring's force P: two solves give the P
     at which the contact patch carries the wheel load, a third the loads each bushing
-    transmits at that P, which become the bushing preloads. Otherwise the compliant model is
-    used and P found by the secant method.
+    transmits at that P, which become the bushing preloads; the balance is solved again with
+    the stiff springs relaxed at the rotations their torques caused. Otherwise the compliant
+    model is used and P found by the secant method.
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
     check_assembly(s)
@@ -65,13 +71,14 @@ def design_state(suspension: Suspension) -> DesignState:
         return DesignState(springs, preload)
     ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
     idle = [False]  # idle spins held: only when the plain balancing does not solve
+    offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
     balanced = balanced_springs(s)
 
     def solve(p: np.ndarray):
         forces = dict(springs)
         forces.update(zip(balanced, (float(v) for v in p)))
         model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
-                                balancing=ideal)
+                                balancing=ideal, balancing_offsets=offsets)
         if idle[0]:
             hold_idle_spins(model)
         supports = hold_contact_patches(model)
@@ -98,6 +105,16 @@ def design_state(suspension: Suspension) -> DesignState:
             raise
         idle[0] = True
         p1, loads = balance()
+    if ideal:
+        # the stiff springs' rotation under the bushings' design torques moves the parts off
+        # the design position (a 1.3e6 N*mm torque turns 1.3e-3 rad: 0.3 mm at a 250 mm
+        # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it
+        for b in s.bushings:
+            held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
+            # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
+            offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+        if any(np.any(v) for v in offsets.values()):
+            p1, loads = balance()
     if not balanced:
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
     springs.update(zip(balanced, (float(v) for v in p1)))
@@ -115,7 +132,7 @@ def _balance_springs(s: Suspension, names: tuple[str, ...], solve):
     """The preloads of several springs (one per wheel) at which every contact patch carries
     the wheel load: Newton's method on the pad loads, the Jacobian from one solve per spring
     and then Broyden's update (the loads are nearly linear in the preloads), until every pad
-    load is within 1e-6 of the wheel load."""
+    load is within BALANCE_TOLERANCE of the wheel load."""
     w = s.design.wheel_load_N
     target = np.full(len(names), w)
     r0, _ = solve(np.zeros(len(names)))
@@ -131,7 +148,7 @@ def _balance_springs(s: Suspension, names: tuple[str, ...], solve):
                              ) from None
         p = p + step
         r_new, loads = solve(p)
-        if np.max(np.abs(r_new - target)) < 1e-6 * w:
+        if np.max(np.abs(r_new - target)) < BALANCE_TOLERANCE * w:
             return p, loads
         jac += np.outer((r_new - r) - jac @ step, step) / (step @ step)
         r = r_new
@@ -142,9 +159,9 @@ def _balance_springs(s: Suspension, names: tuple[str, ...], solve):
 
 def _balance_spring(s: Suspension, solve):
     """The balanced spring's preload at which the contact patch carries the wheel load
-    (secant method, iterated until the pad load is within 1e-6 of the wheel load: one step
-    when the structure is linear in the preload, more when it is not, e.g. a spring on a
-    skewed upper arm)."""
+    (secant method, iterated until the pad load is within BALANCE_TOLERANCE of the wheel
+    load: one step when the structure is linear in the preload, more when it is not, e.g. a
+    spring on a skewed upper arm)."""
     d = s.design
     w = d.wheel_load_N
     p0, p1 = 0.0, w
@@ -158,7 +175,7 @@ def _balance_spring(s: Suspension, solve):
         p0, r0 = p1, r1
         p1 = p2
         r1, loads = solve(p1)
-        if abs(r1 - w) < 1e-6 * w:
+        if abs(r1 - w) < BALANCE_TOLERANCE * w:
             break
     else:
         raise SolverError(f"{s.source}: design.balance_spring: no spring preload found that "

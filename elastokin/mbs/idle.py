@@ -85,14 +85,15 @@ def hold_idle_spins(model) -> dict[str, list[int]]:
     for part, axes in idle_axes(model).items():
         if part not in rates:
             continue
-        for axis in axes:
-            springs.setdefault(part, []).append(_torsion_spring(model, part, axis, rates[part]))
+        for k, axis in enumerate(axes):
+            springs.setdefault(part, []).append(_torsion_spring(model, part, axis, rates[part],
+                                                                k))
     if springs:
         exudyn_call(model.mbs.Assemble, f"{model.suspension.source}: holding idle spins")
     return springs
 
 
-def _torsion_spring(model, part: str, axis: np.ndarray, rate: float) -> int:
+def _torsion_spring(model, part: str, axis: np.ndarray, rate: float, k: int) -> int:
     z = axis / np.linalg.norm(axis)
     helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     x = helper - (helper @ z) * z
@@ -104,4 +105,4 @@ def _torsion_spring(model, part: str, axis: np.ndarray, rate: float) -> int:
     m1 = model.rigid_marker(part, ref, frame)
     return model.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
         markerNumbers=[m0, m1], stiffness=np.diag([0.0] * 5 + [rate]),
-        damping=np.zeros((6, 6)), name=f"idle:{part}"))
+        damping=np.zeros((6, 6)), name=f"idle:{part}:{k}"))

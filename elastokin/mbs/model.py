@@ -95,17 +95,20 @@ class SuspensionModel:
     ``preloads``: spring forces and bushing loads at the design position (default: the
     springs' own preloads and the bushings' initial deflections); ``friction``: ball-joint
     friction; ``balancing``: every bushing held by its ideal joint with its loads read back
-    (:func:`elastokin.mbs.design.design_state` only). Build it once, attach supports and
-    loads, then solve as often as needed (:mod:`elastokin.mbs.solve`): every solve restarts
-    from the design position.
+    (:func:`elastokin.mbs.design.design_state` only), ``balancing_offsets`` the rotations
+    (rad, bushing frame) at which its stiff rotational springs carry no torque. Build it
+    once, attach supports and loads, then solve as often as needed
+    (:mod:`elastokin.mbs.solve`): every solve restarts from the design position.
     """
 
     def __init__(self, suspension: Suspension, options: ModelOptions = ModelOptions(),
                  preloads: DesignState | None = None, friction_spec: BallJointFriction | None
-                 = None, balancing: bool = False):
+                 = None, balancing: bool = False,
+                 balancing_offsets: Mapping[str, np.ndarray] | None = None):
         self.suspension = suspension
         self.options = options
         self.balancing = balancing
+        self.balancing_offsets = dict(balancing_offsets or {})
         self.friction_spec = friction_spec
         self.substeps = friction_spec.substeps if friction_spec is not None else 1
         given = preloads.bushing_preload if preloads is not None else {}

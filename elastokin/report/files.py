@@ -40,9 +40,10 @@ def config_provenance(s) -> dict:
     }
 
 
-def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
-    """One row per model, load case and step; a ``#`` comment header carries provenance
-    (read with ``pandas.read_csv(path, comment="#")``)."""
+def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict, side: str = "left") -> None:
+    """One row per model, load case, wheel side and step; a ``#`` comment header carries
+    provenance (read with ``pandas.read_csv(path, comment="#")``). ``side`` is the config's
+    side: the side of a sweep that names none (test data of a corner)."""
     names: list[str] = []
     for sw in sweeps:
         names += [c for c in sw.columns if c not in names and c != "branch"]
@@ -52,12 +53,13 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict) -> None:
         if header.get("rig_file"):
             fh.write(f"# rig_file: {header['rig_file']}\n")
             fh.write(f"# rig_sha256: {header['rig_sha256']}\n")
-        fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable\n")
+        fh.write("# units: mm, N, N*mm, deg (in each column name); empty = not applicable; "
+                 "side: the wheel's (vehicle left/right)\n")
         writer = csv.writer(fh, lineterminator="\n")
-        writer.writerow(["model", "load_case", "step", "branch", *names])
+        writer.writerow(["model", "load_case", "side", "step", "branch", *names])
         for sw in sweeps:
             n = sw.steps
-            cols = [[sw.model] * n, [sw.load_case] * n, range(1, n + 1),
+            cols = [[sw.model] * n, [sw.load_case] * n, [sw.side or side] * n, range(1, n + 1),
                     [str(b) for b in sw.columns["branch"]]]
             cols += [_formatted(sw.columns[c]) if c in sw.columns else [""] * n
                      for c in names]
@@ -224,8 +226,9 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     from elastokin.report.html import write_report
 
     prov = config_provenance(run.suspension)
-    sweeps = [sw for m in run.models.values() for sw in m.sweeps]
-    write_kc_csv(folder / "kc.csv", sweeps, prov)
+    sweeps = [sw for m in run.models.values()
+              for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
+    write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
     ident = None
     if run.identification is not None:
@@ -303,24 +306,27 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
 
 
 def read_kc_csv(path: str | Path) -> list[Sweep]:
-    """The sweeps of a ``kc.csv`` (as :func:`write_kc_csv` wrote them): one per model and
-    load case, in file order, numeric columns as float arrays (NaN where empty)."""
+    """The sweeps of a ``kc.csv`` (as :func:`write_kc_csv` wrote them): one per model, load
+    case and wheel side, in file order, numeric columns as float arrays (NaN where empty).
+    Files without a ``side`` column (elastokin before the axle) give sweeps of side ""."""
     path = Path(path)
     lines = [ln for ln in path.read_text().splitlines() if ln and not ln.startswith("#")]
     rows = list(csv.reader(lines))
     header, body = rows[0], rows[1:]
-    groups: dict[tuple[str, str], list[list[str]]] = {}
+    sided = len(header) > 2 and header[2] == "side"
+    first = 5 if sided else 4
+    groups: dict[tuple[str, str, str], list[list[str]]] = {}
     for r in body:
-        groups.setdefault((r[0], r[1]), []).append(r)
+        groups.setdefault((r[0], r[1], r[2] if sided else ""), []).append(r)
     sweeps = []
-    for (model, case), rs in groups.items():
-        cols: dict[str, np.ndarray] = {"branch": np.array([r[3] for r in rs])}
-        for k, name in enumerate(header[4:], start=4):
+    for (model, case, side), rs in groups.items():
+        cols: dict[str, np.ndarray] = {"branch": np.array([r[first - 1] for r in rs])}
+        for k, name in enumerate(header[first:], start=first):
             values = [r[k] for r in rs]
             if all(v == "" for v in values):
                 continue
             cols[name] = np.array([float(v) if v != "" else np.nan for v in values])
-        sweeps.append(Sweep(model, case, cols))
+        sweeps.append(Sweep(model, case, cols, side=side))
     return sweeps
 
 

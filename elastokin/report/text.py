@@ -19,12 +19,13 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     residual = st["wheel_assembly_force_residual_N"]
     lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
                  f"(force residual on the wheel assembly {residual:.1e} N)")
-    lines.append(f"  {'bushing':<10}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
+    w = max([10, *(len(n) + 2 for n in st["bushings"])])
+    lines.append(f"  {'bushing':<{w}}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
                  f"   reference {st['reference_source']}")
     for name, b in st["bushings"].items():
         ref = b.get("reference", {})
         ref_txt = ", ".join(f"{k} {v:g}" for k, v in ref.items())
-        lines.append(f"  {name:<10}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
+        lines.append(f"  {name:<{w}}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
                      f"{b['torsion_deg']:>13.4f}   {ref_txt}")
     lines.append("")
     def num(v, fmt):
@@ -50,6 +51,7 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
+    lines += axle_lines(summary["models"])
     # summary["warnings"] are not repeated here: `elastokin kc` prints each once on stderr
     fit = summary.get("stiffness_identification")
     if fit:
@@ -65,6 +67,40 @@ def kc_table(summary: dict, out_dir: Path) -> str:
                      "recomputes): " + ", ".join(summary["reused_from_cache"]))
     lines.append(f"Results in {out_dir}/: " + ", ".join(summary["files"]))
     return "\n".join(lines)
+
+
+#: the axle's figures the K&C table shows (summary.json "axle" has them all): key, label, format
+AXLE_FIGURES = (
+    ("roll_centre_height_mm", "roll centre height, kinematic mm", ".1f"),
+    ("roll_centre_height_force_based_mm", "roll centre height, force-based mm", ".1f"),
+    ("roll_stiffness_Nmm_per_deg", "roll stiffness N*m/deg", "scaled"),
+    ("anti_roll_bar_share", "anti-roll bar share -", ".3f"),
+    ("axle_roll_steer_deg_per_deg", "roll steer deg/deg", ".4f"),
+    ("roll_camber_left_deg_per_deg", "roll camber (left) deg/deg", ".4f"),
+    ("ride_rate_left_N_per_mm", "ride rate (left) N/mm", ".2f"),
+    ("steering_ratio_centre", "steering ratio on centre -", ".2f"),
+    ("percent_ackermann_lock", "Ackermann at lock %", ".1f"),
+    ("percent_anti_dive", "anti-dive %", ".1f"),
+    ("percent_anti_squat", "anti-squat %", ".1f"),
+)
+
+
+def axle_lines(models: dict) -> list[str]:
+    """The axle's key figures, one row each, one column per model (none for a corner)."""
+    axles = {label: m["axle"] for label, m in models.items() if m.get("axle")}
+    if not axles:
+        return []
+    out = ["", "Axle (both wheels; every figure and its definition: summary.json 'axle', "
+           "docs/characteristics.md)",
+           f"  {'':<36}" + "".join(f"{label:>22}" for label in axles)]
+    for key, label, fmt in AXLE_FIGURES:
+        values = [a.get(key) for a in axles.values()]
+        if all(v is None for v in values):
+            continue
+        cells = ["-" if v is None else format(v / 1000.0, ".1f") if fmt == "scaled"
+                 else format(v, fmt) for v in values]
+        out.append(f"  {label:<36}" + "".join(f"{c:>22}" for c in cells))
+    return out
 
 
 #: the reference the identification's equation numbers are those of

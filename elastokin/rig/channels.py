@@ -104,8 +104,8 @@ CHANNEL_LIST = (
             "positive roll (axle)", "roll moment [N*mm]", test="roll_moment",
             test_meaning="roll moment of the vertical forces, + with roll",
             adams="roll_moment"),
-    Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + for rack travel + "
-            "along the rack's axis (axle with steering)", "steering-wheel angle [deg]",
+    Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + turning the wheels "
+            "to the left (ISO 8855; axle with steering)", "steering-wheel angle [deg] (+ left)",
             test="steering_wheel_angle", test_meaning="steering-wheel angle",
             adams="steering_wheel_angle"),
     Channel("rack_travel_mm", "mm", "steering rack travel from the centre along its axis "

@@ -28,7 +28,7 @@ def rig_for_test(test: list[Sweep], rig: RigSpec) -> RigSpec:
     fields = {}
     for name, info in RigSpec.model_fields.items():
         base = getattr(rig, name) or info.default  # every case has a default spec
-        sw = cases.get(name)
+        sw = cases.get(name) if LOAD_CASES[name].corner else None
         if sw is None:
             fields[name] = getattr(rig, name) if name == "parallel_travel" else None
             continue

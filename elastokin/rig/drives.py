@@ -95,16 +95,20 @@ def parallel_travel_drive(suspension: Suspension, spec: TravelSpec | None = None
 
 
 def other_travel_drive(suspension: Suspension, case: str, spec: TravelSpec) -> Drive:
-    """Opposite wheel travel (the other wheel's pad the opposite of the config side's) or
-    single wheel travel (the other pad held at its design height), displacement control."""
+    """Opposite wheel travel (the left pad follows the travel, the right one the opposite) or
+    single wheel travel (the ``moving`` wheel's pad follows it, the other is held at its
+    design height), displacement control. The sides are the vehicle's, whichever the
+    config describes."""
     s = _axle(suspension, case)
     z, branch = travel_path(spec.rebound_mm, spec.bump_mm, spec.step_mm, spec.unloading)
     n = z.size
-    other = s.sides[1]
     zero = np.zeros((n, 3))
-    other_z = -z if case == "opposite_travel" else np.zeros(n)
-    return Drive(case, "pad_z_mm", z, branch, _wheels(
-        s, n, z, zero, per_side={other: WheelInputs(other_z, zero, np.zeros((n, 6)))}))
+    if case == "opposite_travel":
+        pads = {"left": z, "right": -z}
+    else:
+        pads = {side: z if side == spec.moving else np.zeros(n) for side in s.sides}
+    return Drive(case, "pad_z_mm", z, branch, {
+        side: WheelInputs(pads[side], zero, np.zeros((n, 6))) for side in s.sides})
 
 
 def roll_drive(suspension: Suspension, spec: RollSpec) -> Drive:
@@ -177,7 +181,7 @@ def vertical_force_drive(suspension: Suspension,
 def force_drive(suspension: Suspension, case: str,
                 spec: ForceSweepSpec | TorqueSweepSpec | None = None) -> Drive:
     """A force (or aligning torque) swept 0 -> +A -> -A -> 0 at the design wheel load on
-    every wheel in phase (``lateral_force_anti_phase``: the other wheel's force opposite),
+    every wheel in phase (``lateral_force_anti_phase``: the right wheel's force opposite),
     the contact patches free (force control)."""
     s = suspension
     lc = LOAD_CASES[case]
@@ -189,8 +193,8 @@ def force_drive(suspension: Suspension, case: str,
     axis = getattr(s, lc.direction)
     n = values.size
     wheels = {}
-    for i, side in enumerate(s.sides):
-        sign = -1.0 if (case == "lateral_force_anti_phase" and i) else 1.0
+    for side in s.sides:
+        sign = -1.0 if (case == "lateral_force_anti_phase" and side == "right") else 1.0
         pad = np.tile(s.up * s.design.wheel_load_N, (n, 1))
         centre = np.zeros((n, 6))
         if lc.where == "patch":

@@ -13,7 +13,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -61,6 +61,8 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     s = model.suspension
     rig = s.rig_source
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
+    if drive.load_case == "steering":
+        drive = left_turning(model, drive, what)
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
                     variations=variations)
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
@@ -77,6 +79,32 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
     return sweeps
+
+
+#: rack travel (mm) of the probe step that finds the pinion's sense (:func:`left_turning`)
+STEERING_PROBE_MM = 0.1
+
+
+def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
+    """The steering ``drive`` with the pinion's sense that turns the wheels to the left for a
+    positive steering-wheel angle (ISO 8855, as ADAMS/Car). Rack travel + along the rack's
+    axis turns the wheels left or right depending on whether the tie rods are behind or
+    ahead of the wheel centres: one probe step of :data:`STEERING_PROBE_MM` decides, and the
+    rack's travel is mirrored about its held position when it turns them right."""
+    t0 = model.suspension.axle.steering.travel_mm
+    probe = {side: WheelInputs(None, np.repeat(np.asarray(wi.pad_loads)[:1], 2, axis=0),
+                               np.repeat(np.asarray(wi.centre_loads)[:1], 2, axis=0))
+             for side, wi in drive.wheels.items()}
+    steps = run_rig(model, probe, np.array([t0, t0 + STEERING_PROBE_MM]),
+                    what=what + ", steering sense probe")
+    s = model.suspension
+    view = s.on_side(s.side)
+    toe = [characteristics([st[s.side]], view)["toe_deg"][0] for st in steps]
+    left_turn = (toe[1] - toe[0]) * (-1.0 if s.side == "left" else 1.0)
+    if left_turn >= 0.0:
+        return drive
+    rack = 2.0 * t0 - drive.rack_travel_mm
+    return replace(drive, rack_travel_mm=rack, columns={**drive.columns, "rack_travel_mm": rack})
 
 
 def run_drive(model: SuspensionModel, label: str, drive: Drive,

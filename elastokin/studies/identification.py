@@ -7,8 +7,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from elastokin.config.frozen import plain_data
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
+from elastokin.config.variants import corner
 from elastokin.identification.geometric import (
     Identification,
     apply_design_loads,
@@ -30,7 +32,11 @@ def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = 
                       verify: bool = True) -> Identification:
     """Identify the geometry of ``suspension`` from its CMM measurements, solve the identified
     model's bushing deflections at the measured poses and (``verify``) check that its static
-    equilibrium puts every joint at its measured location."""
+    equilibrium puts every joint at its measured location. On an axle the measured corner
+    (the config's side) is identified and verified alone; the initial and identified configs
+    keep the ``axle`` section, so that their other side is the identified corner mirrored."""
+    axle = suspension.raw.get("axle") if suspension.axle is not None else None
+    suspension = corner(suspension)
     ident = identify(suspension, progress)
     progress("bushing loads at the measured poses")
     balanced = suspension_from_dict(ident.identified_config,
@@ -43,4 +49,7 @@ def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = 
         model = build_model(identified)
         static_equilibrium(model)
         verification_deviations(ident, identified, model.part_poses())
+    if axle is not None:
+        for cfg in (ident.initial_config, ident.identified_config):
+            cfg["axle"] = plain_data(axle)
     return ident

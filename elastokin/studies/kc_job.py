@@ -30,11 +30,19 @@ import numpy as np
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import hidden_stiffness
 from elastokin.config.suspension import Suspension
-from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
+from elastokin.config.variants import (
+    DesignState,
+    ModelVariant,
+    compliant,
+    corner,
+    kinematic,
+    mirrored_design,
+    side_couplings,
+)
 from elastokin.errors import ConfigError
 from elastokin.formats.kc_test_sweeps import read_test_sweeps
 from elastokin.identification.geometric import Identification
-from elastokin.identification.stiffness import StiffnessFit, identify_stiffness
+from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
 from elastokin.rig.axle_summary import axle_characteristics
@@ -264,9 +272,43 @@ def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
         raise ConfigError(f"{s.source}: stiffness identification needs a 'kc_test' section "
                           "with K&C test files, bushings, a compliant model (kinematic: false) "
                           "and kc_test.stiffness_identification.enabled: true")
-    return identify_stiffness(start.suspension, start.preloads, test,
+    check_fit_on_corner(s)
+    return identify_stiffness(corner(start.suspension), corner_preloads(start), test,
                               s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
+
+
+def check_fit_on_corner(suspension: Suspension) -> None:
+    """The stiffness fit runs on the config's corner (the test data are that wheel's): on an
+    axle only when its sides are independent (:func:`side_couplings`)."""
+    couplings = side_couplings(suspension)
+    if couplings and fits_stiffness(suspension):
+        raise ConfigError(
+            f"{suspension.source}: key 'kc_test.stiffness_identification': the stiffness fit "
+            f"runs on one corner, and this axle's sides are coupled by {', '.join(couplings)}; "
+            "fit the corner (the config without its 'axle' section) and give the axle its "
+            "fitted laws, or set stiffness_identification.enabled: false")
+
+
+def corner_preloads(variant: ModelVariant) -> DesignState:
+    """The design preloads of the variant's config corner (on an axle: that side's)."""
+    c = corner(variant.suspension)
+    p = variant.preloads
+    springs, bushings = {sp.name for sp in c.springs}, {b.name for b in c.bushings}
+    return DesignState({k: v for k, v in p.spring_force_N.items() if k in springs},
+                       {k: v for k, v in p.bushing_preload.items() if k in bushings})
+
+
+def fitted_variant(start: ModelVariant, stiffness: StiffnessFit) -> ModelVariant:
+    """The model ``identified_stiffness``: the fit's own on a corner; on an axle the start's
+    axle with the fitted laws and the fit's preloads on both sides (mirrored)."""
+    s = start.suspension
+    if s.axle is None:
+        return ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
+    suffix = s.axle.suffix
+    values = {**stiffness.values, **{n + suffix: v for n, v in stiffness.values.items()}}
+    return ModelVariant("identified_stiffness", with_stiffness(s, values),
+                        mirrored_design(stiffness.design, suffix))
 
 
 def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str]
@@ -293,6 +335,7 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
+    check_fit_on_corner(suspension)
     ident = geometry(suspension, progress, cache)
     fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
                           *map(Path, files))
@@ -381,6 +424,6 @@ def _solve_models(suspension, variants, static_label, test_sweeps, progress, det
             progress("bushing stiffness fit reused (same config, CMM and test files)")
         if cache is not None:
             cache.put("stiffness_fit", key, stiffness)
-        fitted = ModelVariant("identified_stiffness", stiffness.suspension, stiffness.design)
-        models["identified_stiffness"] = load_cases(fitted, progress)
+        models["identified_stiffness"] = load_cases(
+            fitted_variant(variants[static_label], stiffness), progress)
     return variants[static_label].preloads, static_result, models, stiffness

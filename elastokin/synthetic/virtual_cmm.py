@@ -52,6 +52,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import (
     DesignState,
     ModelVariant,
+    corner,
     relabelled,
     with_joint_shifts,
 )
@@ -167,8 +168,9 @@ def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None)
     """The as-built suspension for given clearance shifts (mm, config frame, keyed by joint or
     bushing name; see :func:`clearance_shifts`). A bushing's inner sleeve shifted by delta
     changes its design deflection by -delta (outer relative to inner); a joint's shift moves
-    its attachment on the ``bolted`` part."""
-    s = suspension
+    its attachment on the ``bolted`` part. On an axle: its measured corner (the config's
+    side) as built."""
+    s = corner(suspension)
     m = s.measurements
     design = design if design is not None else design_state(s)
     preload = dict(design.bushing_preload)
@@ -364,8 +366,9 @@ def _write_truth(path: Path, s: Suspension, seed: int, syn: SyntheticSpec, sigma
 
 def synthesize(suspension: Suspension, seed: int | None = None,
                folder: Path | None = None) -> list[Path]:
-    """Make the as-built suspension and write its virtual CMM files; returns the paths."""
-    s = suspension
+    """Make the as-built suspension and write its virtual CMM files; returns the paths (on an
+    axle: of its measured corner, the config's side)."""
+    s = corner(suspension)
     m = s.measurements
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: it names the files to write")
