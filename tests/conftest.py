@@ -43,7 +43,7 @@ def make_suspension(data: dict, name: str = "test.yaml"):
 @pytest.fixture(scope="session")
 def case_kc(tmp_path_factory) -> Path:
     """``elastokin kc`` on the shipped case study, run once per test session and shared by
-    every test that reads its files (about 2 minutes: identification, 4 models, the stiffness
+    every test that reads its files (about 10 s: identification, 4 models, the stiffness
     fit). Tests using it are marked slow."""
     from click.testing import CliRunner
 

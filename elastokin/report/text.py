@@ -9,6 +9,11 @@ from pathlib import Path
 from elastokin.rig.channels import CHARACTERISTICS
 
 
+def fixed(value: float, decimals: int) -> str:
+    """``value`` with ``decimals`` decimals, without a sign on a value that rounds to 0."""
+    return f"{round(value, decimals) + 0.0:.{decimals}f}"
+
+
 def kc_table(summary: dict, out_dir: Path) -> str:
     """The K&C run's summary: provenance, static bushing table, characteristics, errors and
     the fitted stiffness (its warnings are printed apart, as ``elastokin: warning:`` lines)."""
@@ -20,13 +25,15 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     lines.append(f"Static equilibrium under {st['wheel_load_N']:g} N wheel load "
                  f"(force residual on the wheel assembly {residual:.1e} N)")
     w = max([10, *(len(n) + 2 for n in st["bushings"])])
+    refs = any(b.get("reference") for b in st["bushings"].values())
     lines.append(f"  {'bushing':<{w}}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
-                 f"   reference {st['reference_source']}")
+                 + (f"   reference {st['reference_source']}" if refs else ""))
     for name, b in st["bushings"].items():
         ref = b.get("reference", {})
         ref_txt = ", ".join(f"{k} {v:g}" for k, v in ref.items())
-        lines.append(f"  {name:<{w}}{b['radial_mm']:>11.3f}{b['axial_mm']:>10.3f}"
-                     f"{b['torsion_deg']:>13.4f}   {ref_txt}")
+        row = (f"  {name:<{w}}{fixed(b['radial_mm'], 3):>11}{fixed(b['axial_mm'], 3):>10}"
+               f"{fixed(b['torsion_deg'], 4):>13}")
+        lines.append(row + (f"   {ref_txt}" if ref_txt else ""))
     lines.append("")
     def num(v, fmt):
         return "-" if v is None else format(v, fmt)
