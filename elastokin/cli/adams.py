@@ -41,15 +41,25 @@ def _sha(path: Path) -> str:
 
 
 @click.command("import-adams")
-@click.option("--hardpoints", "hardpoints_path", required=True,
+@click.option("--hardpoints", "hardpoints_path", default=None,
               type=click.Path(path_type=Path),
               help="ADAMS/Car hardpoint table: a TeimOrbit file (.sub, .asy or table) with "
                    "{hardpoint_name symmetry x_value y_value z_value}, or an ADAMS/Car "
-                   "database folder (or one of its .tbl folders) holding one subsystem file.")
+                   "database folder (or one of its .tbl folders) holding one subsystem file "
+                   "or the mapping's subsystems.")
+@click.option("--assembly", "assembly_path", default=None,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Instead of --hardpoints: an ADAMS/Car assembly (.asy); its suspension, "
+                   "anti-roll bar and steering subsystems are read.")
+@click.option("--subsystem", "subsystem_paths", multiple=True, metavar="FILE.sub",
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="An axle's anti-roll bar or steering subsystem file (its MAJOR_ROLE says "
+                   "which; repeatable).")
 @click.option("--mapping", "mapping_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Mapping file (YAML, docs/adams.md): elastokin hardpoint -> ADAMS "
-                   "hardpoint and side; optionally elastokin bushing -> .bus file.")
+                   "hardpoint and side; optionally elastokin bushing -> .bus file; an axle's "
+                   "anti_roll_bar and steering sections.")
 @click.option("--template", "template_path", required=True,
               type=click.Path(dir_okay=False, path_type=Path),
               help="elastokin config whose topology, parts and laws are kept.")
@@ -59,41 +69,42 @@ def _sha(path: Path) -> str:
 @click.option("--out", "out_path", required=True,
               type=click.Path(path_type=Path), metavar="FILE",
               help="The new elastokin config (YAML); written only when it is valid.")
-def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
+def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
+                 subsystem_paths: tuple[Path, ...], mapping_path: Path, template_path: Path,
                  bushings: tuple[str, ...], out_path: Path) -> None:
     """Build an elastokin config from ADAMS/Car files: the template config with its hardpoints
     from an ADAMS hardpoint table (converted from the ADAMS frame, X rearward / Y right / Z up,
-    to the template's frame) and the stiffness of the named bushings from .bus files."""
+    to the template's frame) and the stiffness of the named bushings from .bus files; for an
+    axle template also the other side, the anti-roll bar and the steering rack ratio."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
-    from elastokin.formats.adams_car import (
-        bushing_sources,
-        import_adams,
-        read_bushing,
-        read_mapping,
-        subsystem_file,
-    )
+    from elastokin.formats.adams_car import read_bushing
+    from elastokin.formats.adams_import import import_adams_axle, subsystem_files
+    from elastokin.formats.adams_mapping import read_mapping
     from elastokin.formats.config_yaml import dump_config
 
     with WarningLog() as log:
         try:
             _check_out_file(out_path)  # before anything is read
+            if (hardpoints_path is None) == (assembly_path is None):
+                raise ConfigError("import-adams: give --hardpoints (a subsystem file or "
+                                  "database) or --assembly (an .asy file), not both")
             template, _ = read_yaml(template_path)
             bus_files = _bushing_option(bushings)
-            cfg, warnings = import_adams(template, hardpoints_path, mapping_path, bus_files,
-                                         f"template {template_path}")
             mapping = read_mapping(mapping_path)
-            sub = subsystem_file(hardpoints_path)
-            bus_files = bushing_sources(sub, mapping, mapping.side or template.get("side")
-                                        or "left", bus_files)
+            minor = mapping.subsystem.get("minor_role") or _position(template)
+            files = subsystem_files(mapping, hardpoints_path, assembly_path, subsystem_paths,
+                                    minor)
+            cfg, warnings, read = import_adams_axle(template, files, mapping_path, bus_files,
+                                                    f"template {template_path}")
             _keep_data_folders(cfg, template_path, out_path)
             # the new config must be valid; an error names the template it was made from
             suspension_from_dict(cfg, f"{out_path} (the template {template_path} with the "
                                       "ADAMS hardpoints and bushings)")
-            sources = [f"hardpoints {sub} (sha256 {_sha(sub)})",
+            subs = [f for f in (files.suspension, files.anti_roll_bar, files.steering) if f]
+            sources = [*(f"subsystem {f} (sha256 {_sha(f)})" for f in subs),
                        f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
                        f"template {template_path} (sha256 {_sha(template_path)})",
-                       *(f"bushing {n}: {f} (sha256 {_sha(f)}); "
-                         f"{read_bushing(f).interpolation_note()}" for n, f in bus_files.items())]
+                       *(_file_note(f, read_bushing) for f in dict.fromkeys(read))]
             text = dump_config(cfg, _import_header(sources, cfg["frame"]))
         except ElastokinError as exc:
             fail(str(exc))
@@ -105,6 +116,21 @@ def import_adams(hardpoints_path: Path, mapping_path: Path, template_path: Path,
             fail(f"--out {out_path}: cannot write ({exc.strerror or exc})")
     log.echo(warnings)
     click.echo(f"wrote {out_path}")
+
+
+def _position(template: dict) -> str | None:
+    """The template's axle position (front, rear): the minor role of its subsystems."""
+    axle = template.get("axle") if isinstance(template, dict) else None
+    vehicle = axle.get("vehicle") if isinstance(axle, dict) else None
+    return vehicle.get("position", "front") if isinstance(vehicle, dict) else None
+
+
+def _file_note(path: Path, read_bushing) -> str:
+    """A source line of the header: a curve file, or a bushing file with its interpolation
+    note."""
+    if path.suffix.lower() == ".crv":
+        return f"curve {path} (sha256 {_sha(path)})"
+    return f"bushing {path} (sha256 {_sha(path)}); {read_bushing(path).interpolation_note()}"
 
 
 def _check_out_file(out_path: Path) -> None:
@@ -171,7 +197,8 @@ def _export_output(out_dir: Path):
                    "mdids://acar_shared/templates.tbl/_double_wishbone.tpl); overrides the "
                    "mapping file.")
 @click.option("--major-role", default=None, help="MAJOR_ROLE (default: suspension).")
-@click.option("--minor-role", default=None, help="MINOR_ROLE (default: front).")
+@click.option("--minor-role", default=None,
+              help="MINOR_ROLE (default: front, or an axle's vehicle.position).")
 @click.option("--database", default=None, metavar="ALIAS",
               show_default="the --out folder's name without .cdb",
               help="Database alias of the mdids:// paths in the subsystem file.")
@@ -192,7 +219,8 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
     """Write a suspension as an ADAMS/Car database: subsystems.tbl/<name>.sub (template and
     roles, hardpoints in the ADAMS frame with the template's names, bushing and spring
     assemblies), bushings.tbl/*.bus, springs.tbl/*.spr (mm, newton, deg), and mapping.yaml
-    (for import-adams)."""
+    (for import-adams). An axle: its left/right pairs, and its anti-roll bar and steering
+    subsystems (bar rate, rack_ratio) with an assembly (assemblies.tbl/<name>.asy)."""
     from elastokin.config.loading import load_suspension, suspension_from_dict
     from elastokin.formats.adams_export import export_adams as write_files
     from elastokin.formats.adams_export import subsystem_spec
@@ -215,10 +243,7 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
                 ident = identify_geometry(s)
                 s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
                                          s.sha256)
-            # an ADAMS/Car subsystem is symmetric: its left/right pairs come from the corner
-            from elastokin.config.variants import corner
-
-            s = corner(s)
+            # an axle: both corners (left/right pairs), the anti-roll bar and the steering
             preload, springs = None, None
             if (s.design.balance_bushing_preloads and s.bushings) or s.design.balance_spring:
                 from elastokin.mbs.design import design_state

@@ -53,6 +53,7 @@ __all__ = [
     "database_file",
     "frame_signs",
     "import_adams",
+    "lookup_hardpoint",
     "read_bushing",
     "read_bushing_assemblies",
     "read_hardpoints",
@@ -322,19 +323,22 @@ def read_hardpoints(path: str | Path, warnings: list[str] | None = None
     return points
 
 
-def subsystem_file(path: str | Path) -> Path:
+def subsystem_file(path: str | Path, name: str | None = None) -> Path:
     """``path`` itself, or for a folder (an ADAMS/Car database ``.cdb`` or one of its table
-    folders ``*.tbl``) the one subsystem file in the database's ``subsystems.tbl``."""
+    folders ``*.tbl``) the subsystem file in the database's ``subsystems.tbl``: the one there,
+    or ``<name>.sub`` (the mapping's subsystem name) when it holds several."""
     p = Path(path)
     if not p.is_dir():
         return p
     db = p.parent if p.name.lower().endswith(".tbl") else p
     table = db / "subsystems.tbl"
     subs = sorted(table.glob("*.sub")) if table.is_dir() else []
+    if len(subs) > 1 and name and (table / f"{name}.sub") in subs:
+        return table / f"{name}.sub"
     if len(subs) != 1:
         raise ConfigError(f"{p}: a folder; expected a subsystem file, or an ADAMS/Car database "
                           f"(or one of its .tbl folders) whose subsystems.tbl holds one .sub "
-                          f"file (found {len(subs)}: "
+                          f"file or the mapping's subsystem (found {len(subs)}: "
                           f"{', '.join(s.name for s in subs) or 'none'})")
     return subs[0]
 
@@ -352,7 +356,7 @@ def database_file(reference: str, subsystem: str | Path) -> Path:
     return db.joinpath(*re.split(r"[/\\]+", m.group(1)))
 
 
-def _lookup(points: Mapping[str, AdamsHardpoint], name: str, side: str | None,
+def lookup_hardpoint(points: Mapping[str, AdamsHardpoint], name: str, side: str | None,
             where: str) -> tuple[AdamsHardpoint, str | None]:
     """The table row of ``name``: exact, case-insensitive, or ``hpl_/hpr_/hps_`` + name (the
     prefix then gives the side, which must agree with an explicit one)."""
@@ -373,12 +377,13 @@ def _lookup(points: Mapping[str, AdamsHardpoint], name: str, side: str | None,
 
 
 def apply_hardpoints(config: dict, points: Mapping[str, AdamsHardpoint],
-                     mapping: AdamsMapping, source: str = "template config"
-                     ) -> tuple[dict, list[str]]:
+                     mapping: AdamsMapping, source: str = "template config",
+                     warn_unmapped: bool = True) -> tuple[dict, list[str]]:
     """A copy of ``config`` (an elastokin config dict) whose mapped ``hardpoints`` are the ADAMS
     points: the side chosen (hardpoint's, else mapping's, else the config's ``side``), then
     converted from the ADAMS frame to the config's ``frame``. ``source`` names the config in
-    errors. Returns (config, warnings)."""
+    errors. Returns (config, warnings: with ``warn_unmapped``, the template hardpoints no
+    section of the mapping names)."""
     cfg = copy.deepcopy(config)
     if not isinstance(cfg.get("hardpoints"), dict):
         raise ConfigError(f"{source}: key 'hardpoints': expected a mapping")
@@ -392,7 +397,7 @@ def apply_hardpoints(config: dict, points: Mapping[str, AdamsHardpoint],
         if name not in cfg["hardpoints"]:
             raise ConfigError(f"{where}: '{name}' is not a hardpoint of {source} "
                               f"({', '.join(cfg['hardpoints'])})")
-        hp, side = _lookup(points, adams_name, side, where)
+        hp, side = lookup_hardpoint(points, adams_name, side, where)
         side = side or default_side
         if hp.symmetry != "single" and side != cfg["side"]:
             warnings.append(f"{where}: takes the {side} point of '{hp.name}' for a "
@@ -402,8 +407,8 @@ def apply_hardpoints(config: dict, points: Mapping[str, AdamsHardpoint],
         except ConfigError as exc:
             raise ConfigError(f"{where}: {exc}") from None
         cfg["hardpoints"][name] = [clean(v) for v in p]
-    unmapped = [n for n in cfg["hardpoints"] if n not in mapping.hardpoints]
-    if unmapped:
+    unmapped = [n for n in cfg["hardpoints"] if n not in mapping.all_hardpoints()]
+    if unmapped and warn_unmapped:
         warnings.append(f"{mapping.path}: template hardpoints not in the mapping, kept as they "
                         f"were: {', '.join(unmapped)}")
     return cfg, warnings
@@ -466,7 +471,7 @@ def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str 
     :func:`elastokin.config.loading.suspension_from_dict`. ``source`` names the template in
     errors. Returns (config, warnings)."""
     mapping = read_mapping(mapping_file)
-    sub = subsystem_file(hardpoints_file)
+    sub = subsystem_file(hardpoints_file, mapping.subsystem.get("name"))
     warnings: list[str] = []
     points = read_hardpoints(sub, warnings)
     cfg, more = apply_hardpoints(template, points, mapping, source)

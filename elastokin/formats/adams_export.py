@@ -1,19 +1,26 @@
 """ADAMS/Car files out (:func:`export_adams`): an ADAMS/Car database folder holding the
 subsystem file, a bushing property file per bushing and a spring property file per spring, and
-the mapping file that imports them back.
+the mapping file that imports them back. An axle is written as ADAMS/Car keeps one: the
+suspension subsystem (its ``left/right`` pairs symmetric when the axle is mirrored, a ``left``
+and a ``right`` row or block where ``axle.other_side`` makes the sides differ), an anti-roll bar
+subsystem and a steering subsystem (:mod:`elastokin.formats.adams_axle`), and a suspension
+assembly naming them.
 
 Layout of ``out_dir`` (name it ``<database>.cdb``)::
 
     subsystems.tbl/<name>.sub   [SUBSYSTEM_HEADER], [HARDPOINT], [BUSHING_ASSEMBLY]s,
-                                [NSPRING_ASSEMBLY]s (PROPERTY_FILE 'mdids://<database>/...')
-    bushings.tbl/<usage>.bus    one per bushing
+                                [NSPRING_ASSEMBLY]s (PROPERTY_FILE 'mdids://<database>/...'),
+                                [PARAMETER] (anti-roll bar, steering)
+    bushings.tbl/<usage>.bus    one per bushing (and side, where the sides differ)
     springs.tbl/<usage>.spr     one per spring
+    curves.tbl/<role>.crv       a nonlinear anti-roll bar or rack ratio (elastokin's file)
+    assemblies.tbl/<name>.asy   an axle with an anti-roll bar or steering: the assembly
     mapping.yaml                elastokin <-> ADAMS names, for import-adams
 
-Files are written in mm, newton, deg, kg, sec; hardpoints in ADAMS/Car's global frame (X
-rearward, Y right, Z up), curves and preloads in the bushing frame. Writers are deterministic
-except the subsystem's TIMESTAMP (the current time, or ``SOURCE_DATE_EPOCH`` when set).
-Conventions: ``docs/adams.md``.
+Files are written in mm, newton, deg, kg, sec (``rack_ratio``: rad/m, as ADAMS/Car gives it);
+hardpoints in ADAMS/Car's global frame (X rearward, Y right, Z up), curves and preloads in the
+bushing frame. Writers are deterministic except the TIMESTAMPs (the current time, or
+``SOURCE_DATE_EPOCH`` when set). Conventions: ``docs/adams.md``.
 """
 
 from __future__ import annotations
@@ -21,28 +28,29 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Iterable, Mapping
+from dataclasses import replace
 from pathlib import Path
-
-import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import clean
-from elastokin.formats.adams_mapping import AdamsMapping, config_to_adams, frame_signs
-from elastokin.formats.adams_property_files import (
-    bushing_file_text,
-    number,
-    spring_file_text,
+from elastokin.formats.adams_assembly_rows import bushing_rows, spring_rows
+from elastokin.formats.adams_axle import (
+    AXLE_ROLES,
+    arb_parameters,
+    assembly_text,
+    axle_subsystems,
+    curve_file_text,
+    steering_parameters,
 )
+from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
+from elastokin.formats.adams_property_files import bushing_file_text, spring_file_text
 from elastokin.formats.adams_subsystem import (
-    AssemblyRow,
     SubsystemSpec,
     hardpoint_rows,
     safe_name,
     subsystem_text,
 )
 from elastokin.formats.config_yaml import dump_config
-from elastokin.physics.pose import euler_zxz_deg
 from elastokin.version import __version__
 
 __all__ = [
@@ -50,6 +58,7 @@ __all__ = [
     "export_adams",
     "export_timestamp",
     "mapping_text",
+    "section_spec",
     "spring_file_text",
     "subsystem_spec",
 ]
@@ -68,8 +77,9 @@ def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
                    warnings: list[str] | None = None) -> SubsystemSpec:
     """The subsystem's name, template, roles and database alias: the arguments, else the
     mapping file's ``subsystem`` section, else defaults (name: the config's name; database: the
-    subsystem's name; roles: suspension, front; template: ``_<name>.tpl`` in the database, with
-    a warning). A bare template name (``_double_wishbone``) is taken in ``acar_shared``."""
+    subsystem's name; roles: suspension, front (an axle's ``vehicle.position``); template:
+    ``_<name>.tpl`` in the database, with a warning). A bare template name
+    (``_double_wishbone``) is taken in ``acar_shared``."""
     sub = mapping.subsystem if mapping else {}
     name = safe_name(sub.get("name") or s.name)
     db = safe_name(database or sub.get("database") or name)
@@ -82,8 +92,9 @@ def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
                             f"{tpl}, which ADAMS/Car needs to open it")
     elif "/" not in tpl and "\\" not in tpl:
         tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
+    position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle else "front"
     return SubsystemSpec(name, tpl, major_role or sub.get("major_role") or "suspension",
-                         minor_role or sub.get("minor_role") or "front", db)
+                         minor_role or sub.get("minor_role") or position, db)
 
 
 def _usages(names: Iterable[str], given: Mapping[str, str], what: str,
@@ -99,62 +110,90 @@ def _usages(names: Iterable[str], given: Mapping[str, str], what: str,
     return out
 
 
-def _bushing_rows(s: Suspension, spec: SubsystemSpec, usages: Mapping[str, str],
-                  preload: Mapping[str, Iterable[float]]) -> list[AssemblyRow]:
-    signs = np.diag(frame_signs(s.frame))
-    rows = []
-    for b in s.bushings:
-        if b.name not in preload:
-            raise ConfigError(f"{s.source}: no preload given for bushing '{b.name}'")
-        p = [clean(round(float(v), 6)) for v in preload[b.name]]
-        loc = config_to_adams(b.position_mm, s.frame)
-        euler = euler_zxz_deg(signs @ b.frame)
-        comments = (f"$ elastokin bushing {b.name}: I part {b.parts[0]}, J part {b.parts[1]} "
-                    f"({s.side} corner)",
-                    "$   location " + " ".join(number(round(v, 9)) for v in loc) + " mm",
-                    "$   orientation body-313 " + " ".join(number(round(v, 9)) for v in euler)
-                    + " deg (the template's orientation is used by ADAMS/Car)")
-        values = (("INACTIVE_BEHAVIOR", "normal"),
-                  *((f"T_PRELOAD_{a}", v) for a, v in zip("XYZ", p[:3])),
-                  *((f"R_PRELOAD_{a}", v) for a, v in zip("XYZ", p[3:])),
-                  *((f"{k}_OFFSET_{a}", 0.0) for k in "TR" for a in "XYZ"))
-        rows.append(AssemblyRow(usages[b.name], spec.path("bushings.tbl",
-                                                          f"{usages[b.name]}.bus"),
-                                values, comments))
-    return rows
+def section_spec(s: Suspension, mapping: AdamsMapping | None, role: str,
+                 suspension: SubsystemSpec) -> SubsystemSpec:
+    """The anti-roll bar's or steering's subsystem: the mapping section's ``subsystem``, else
+    ``<suspension name>_<role>``, ADAMS/Car's template and major role for it, the
+    suspension's minor role and database."""
+    section = getattr(mapping, role, None) if mapping else None
+    sub = section.subsystem if section else {}
+    major, template = AXLE_ROLES[role]
+    tpl = sub.get("template") or template
+    if "/" not in tpl and "\\" not in tpl:
+        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
+    default = {"anti_roll_bar": "antiroll", "steering": "steering"}[role]
+    return SubsystemSpec(safe_name(sub.get("name") or f"{suspension.name}_{default}"), tpl,
+                         sub.get("major_role") or major,
+                         sub.get("minor_role") or suspension.minor_role,
+                         safe_name(sub.get("database") or suspension.database))
 
 
-def _spring_rows(s: Suspension, spec: SubsystemSpec, usages: Mapping[str, str],
-                 force: Mapping[str, float]) -> list[AssemblyRow]:
-    rows = []
-    for sp in s.springs:
-        f = force.get(sp.name, sp.design_force_N())
-        comments = (f"$ elastokin spring {sp.name}: {sp.parts[0]} -> {sp.parts[1]}, rate "
-                    f"{sp.rate_N_per_mm:g} N/mm, installed length "
-                    f"{sp.installed_length_mm:.3f} mm",)
-        rows.append(AssemblyRow(usages[sp.name], spec.path("springs.tbl",
-                                                           f"{usages[sp.name]}.spr"),
-                                (("VALUE_TYPE", "preload"),
-                                 ("USER_VALUE", clean(round(float(f), 6)))), comments))
-    return rows
+def _section(mapping: AdamsMapping | None, role: str) -> AdamsMapping | None:
+    """The mapping of a subsystem's names: its section's, else the suspension section's
+    (a mapping written before the anti-roll bar and steering had subsystems of their own)."""
+    if mapping is None or role == "suspension":
+        return mapping
+    own = getattr(mapping, role)
+    if own is None:
+        return replace(mapping, subsystem={}, anti_roll_bar=None, steering=None)
+    return replace(own, hardpoints={**mapping.hardpoints, **own.hardpoints},
+                   bushing_usage={**mapping.bushing_usage, **own.bushing_usage})
 
 
-def mapping_text(s: Suspension, spec: SubsystemSpec, written: Mapping[str, tuple[str, str]],
-                 bushings: Mapping[str, str], springs: Mapping[str, str]) -> str:
-    """The mapping file that imports the exported database back into ``s``'s config."""
-    data = {"elastokin_adams_mapping": 1, "side": s.side,
-            "subsystem": {"name": spec.name, "template": spec.template,
-                          "major_role": spec.major_role, "minor_role": spec.minor_role,
-                          "database": spec.database},
-            "hardpoints": {n: (a if side in ("single", s.side) else {"adams": a, "side": side})
-                           for n, (a, side) in written.items()},
-            "bushings": {n: {"file": f"bushings.tbl/{u}.bus", "usage": u}
-                         for n, u in bushings.items()},
+def _parameters(s: Suspension, role: str, mapping: AdamsMapping | None):
+    """(the [PARAMETER] rows, the curve file (None: none)) of a subsystem."""
+    if role == "suspension":
+        return [], None
+    section = getattr(mapping, role, None) if mapping else None
+    names = section.parameters if section else dict(PARAMETER_KEYS[role])
+    raw = s.raw["axle"][role]
+    curve = None if raw.get("curve") is None and raw.get("ratio_curve") is None else \
+        f"curves.tbl/{role}.crv"
+    make = arb_parameters if role == "anti_roll_bar" else steering_parameters
+    return make(s, names, curve), curve
+
+
+def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
+                 written: Mapping[str, Mapping[str, tuple[str, str]]],
+                 bushings: Mapping[str, Mapping[str, str]], springs: Mapping[str, str],
+                 extra: Mapping[str, dict] | None = None) -> str:
+    """The mapping file that imports the exported database back into ``s``'s config: per
+    subsystem (``specs``, by section) its names (``written``: elastokin hardpoint -> (ADAMS
+    name, side); ``bushings``: elastokin bushing -> usage), the springs' usages and each
+    section's ``extra`` keys (parameter names, curve file)."""
+    def section(role: str) -> dict:
+        spec = specs[role]
+        out = {"subsystem": {"name": spec.name, "template": spec.template,
+                             "major_role": spec.major_role, "minor_role": spec.minor_role,
+                             "database": spec.database}}
+        if written[role]:
+            out["hardpoints"] = {n: (f"hps_{a}" if side == "single" else a if side == s.side
+                                     else {"adams": a, "side": side})
+                                 for n, (a, side) in written[role].items()}
+        if bushings[role] or role == "suspension":
+            out["bushings"] = {n: {"file": f"bushings.tbl/{u}.bus", "usage": u}
+                               for n, u in bushings[role].items()}
+        return out
+
+    data = {"elastokin_adams_mapping": 1, "side": s.side, **section("suspension"),
             "springs": {n: {"usage": u} for n, u in springs.items()}}
+    for role in ("anti_roll_bar", "steering"):
+        if role in specs:
+            data[role] = {**section(role), **(extra or {}).get(role, {})}
     head = [f"elastokin {__version__}: mapping of the ADAMS/Car database exported from "
             f"'{s.name}'", "(docs/adams.md): elastokin name: ADAMS name; bushings: property "
             "file (relative to this file) and usage"]
     return dump_config(data, "\n".join(head), flow=False)
+
+
+def _preloads(s: Suspension, bushing_preload):
+    if bushing_preload is not None:
+        return bushing_preload
+    if s.design.balance_bushing_preloads and s.bushings:
+        raise ConfigError(f"{s.source}: design.balance_bushing_preloads: the bushing "
+                          "preloads must be solved first (elastokin.mbs.design.design_state)")
+    return {b.name: [law(u) for law, u in zip(b.laws, b.initial_deflection)]
+            for b in s.bushings}
 
 
 def export_adams(s: Suspension, out_dir: str | Path,
@@ -166,44 +205,65 @@ def export_adams(s: Suspension, out_dir: str | Path,
                  ) -> list[Path]:
     """Write ``out_dir`` as an ADAMS/Car database (module docstring); returns the paths written.
 
-    ``bushing_preload``: loads at the design position per bushing (N, N*mm, bushing frame),
-    e.g. :attr:`elastokin.config.variants.DesignState.bushing_preload` (from
+    ``bushing_preload``: loads at the design position per bushing (N, N*mm, bushing frame; on
+    an axle every bushing of both sides), e.g.
+    :attr:`elastokin.config.variants.DesignState.bushing_preload` (from
     :func:`elastokin.mbs.design.design_state`); needed when the config balances them
     (``design.balance_bushing_preloads``), else taken from its preload or initial deflection.
     ``spring_force``: compression force per spring at its installed length (default: the
-    config's). ``mapping``: elastokin -> ADAMS names and the template; ``spec`` (default:
-    :func:`subsystem_spec` with ``out_dir``'s name, less ``.cdb``, as the database alias)."""
+    config's). ``mapping``: elastokin -> ADAMS names and the templates; ``spec``: the
+    suspension subsystem's (default: :func:`subsystem_spec` with ``out_dir``'s name, less
+    ``.cdb``, as the database alias)."""
     if not (range_mm > 0 and range_deg > 0):
         raise ConfigError(f"table range must be positive, got {range_mm} mm / {range_deg} deg")
-    if bushing_preload is None:
-        if s.design.balance_bushing_preloads and s.bushings:
-            raise ConfigError(f"{s.source}: design.balance_bushing_preloads: the bushing "
-                              "preloads must be solved first (elastokin.mbs.design.design_state)")
-        bushing_preload = {b.name: [law(u) for law, u in zip(b.laws, b.initial_deflection)]
-                           for b in s.bushings}
+    preload = _preloads(s, bushing_preload)
+    force = spring_force or {}
     spec = spec or subsystem_spec(s, mapping, Path(out_dir).name.removesuffix(".cdb"),
                                   warnings=warnings)
-    rows, written = hardpoint_rows(s, mapping)
+    parts = axle_subsystems(s)
+    specs = {role: spec if role == "suspension" else section_spec(s, mapping, role, spec)
+             for role in parts}
+    names = [p.name for p in specs.values()]
+    if len(set(names)) < len(names):
+        raise ConfigError(f"{mapping.path if mapping else s.source}: two subsystems are both "
+                          f"named '{[n for n in names if names.count(n) > 1][0]}'")
     source = mapping.path if mapping else s.source
-    bushings = _usages([b.name for b in s.bushings], mapping.bushing_usage if mapping else {},
-                       "bushings", source)
-    springs = _usages([sp.name for sp in s.springs], mapping.spring_usage if mapping else {},
+    given = {k: v for role in parts for k, v in
+             (_section(mapping, role).bushing_usage if mapping else {}).items()}
+    usages = _usages([b for p in parts.values() for b in p.bushings], given, "bushings", source)
+    springs = _usages(parts["suspension"].springs, mapping.spring_usage if mapping else {},
                       "springs", source)
+    stamp = timestamp or export_timestamp()
+    files, bus_files, curves, written, extra = {}, {}, {}, {}, {}
+    for role, part in parts.items():
+        sp = specs[role]
+        rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints)
+        brows, more = bushing_rows(s, sp, part.bushings, usages, preload)
+        bus_files.update(more)
+        params, curve = _parameters(s, role, mapping)
+        if role != "suspension":
+            section = getattr(mapping, role, None) if mapping else None
+            extra[role] = dict(section.parameters if section else PARAMETER_KEYS[role])
+            if curve is not None:
+                curves[curve], extra[role]["curve"] = role, curve
+        files[f"subsystems.tbl/{sp.name}.sub"] = subsystem_text(
+            s, sp, rows, brows, spring_rows(s, sp, part.springs, springs, force), stamp, params)
+    for file, name in bus_files.items():
+        files[f"bushings.tbl/{file}"] = bushing_file_text(s, name, range_mm, range_deg)
+    for name in parts["suspension"].springs:
+        files[f"springs.tbl/{springs[name]}.spr"] = spring_file_text(s, name, force.get(name))
+    for file, role in curves.items():
+        files[file] = curve_file_text(s, role)
+    if len(parts) > 1:
+        files[f"assemblies.tbl/{spec.name}.asy"] = assembly_text(s, specs, stamp)
+    files["mapping.yaml"] = mapping_text(
+        s, specs, written, {r: {b: usages[b] for b in p.bushings} for r, p in parts.items()},
+        springs, extra)
     out = Path(out_dir)
-    files = {f"subsystems.tbl/{spec.name}.sub": subsystem_text(
-        s, spec, rows, _bushing_rows(s, spec, bushings, bushing_preload),
-        _spring_rows(s, spec, springs, spring_force or {}), timestamp or export_timestamp())}
-    for b in s.bushings:
-        files[f"bushings.tbl/{bushings[b.name]}.bus"] = bushing_file_text(s, b.name, range_mm,
-                                                                          range_deg)
-    for sp in s.springs:
-        files[f"springs.tbl/{springs[sp.name]}.spr"] = spring_file_text(
-            s, sp.name, (spring_force or {}).get(sp.name))
-    files["mapping.yaml"] = mapping_text(s, spec, written, bushings, springs)
-    written_paths = []
+    paths = []
     for rel, text in files.items():
         path = out / rel
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8", newline="\n")
-        written_paths.append(path)
-    return written_paths
+        paths.append(path)
+    return paths

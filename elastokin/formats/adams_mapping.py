@@ -5,7 +5,10 @@ Pure Python/numpy. ADAMS/Car's global frame is X rearward, Y right, Z up; a conf
 ``frame`` (``{x: rearward|forward, y: right|left}``, z up, same origin): :func:`adams_to_config`
 and :func:`config_to_adams` convert explicitly. The mapping file (YAML) is read by both
 ``import-adams`` (ADAMS names -> elastokin) and ``export-adams`` (elastokin names -> ADAMS, the
-template and roles of the ``[SUBSYSTEM_HEADER]``). Format: ``docs/adams.md``.
+template and roles of the ``[SUBSYSTEM_HEADER]``). An axle's anti-roll bar and steering are
+subsystems of their own in ADAMS/Car: the mapping file's ``anti_roll_bar`` and ``steering``
+sections (each a mapping of its own: ``subsystem``, ``hardpoints``, ``bushings``, the
+``[PARAMETER]`` names and an optional curve file) name them. Format: ``docs/adams.md``.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError
 
 __all__ = [
+    "PARAMETER_KEYS",
     "SUBSYSTEM_KEYS",
     "AdamsMapping",
     "adams_to_config",
@@ -59,12 +63,25 @@ def config_to_adams(point, frame) -> np.ndarray:
 SUBSYSTEM_KEYS = ("name", "template", "major_role", "minor_role", "database")
 
 
+#: per section (``anti_roll_bar``, ``steering``): the keys naming a ``[PARAMETER]`` of its
+#: subsystem, and the default ADAMS parameter names (docs/adams.md, "Axles")
+PARAMETER_KEYS: dict[str, dict[str, str]] = {
+    "anti_roll_bar": {"stiffness": "arb_torsion_stiffness"},
+    "steering": {"rack_ratio": "rack_ratio", "travel_limit": "max_rack_displacement"},
+}
+
+
 @dataclass(frozen=True)
 class AdamsMapping:
     """A mapping file: elastokin hardpoint -> (ADAMS hardpoint, side or None for the default);
     elastokin bushing -> property file (``.bus`` or ``.xml``, resolved against the mapping
     file's folder) and ADAMS usage; elastokin spring -> ADAMS usage; ``subsystem``: the
-    subsystem file's name, template, major and minor role, database (export)."""
+    subsystem file's name, template, major and minor role, database (export).
+
+    An axle's ``anti_roll_bar`` and ``steering`` subsystems are mappings of their own (None:
+    not given; their items are then in the suspension's), with ``parameters`` (role ->
+    ADAMS ``[PARAMETER]`` name, :data:`PARAMETER_KEYS`) and ``curve`` (an elastokin curve
+    file, relative to the mapping file: the bar's torque curve or the rack ratio curve)."""
 
     path: str
     side: str | None
@@ -73,22 +90,38 @@ class AdamsMapping:
     bushing_usage: dict[str, str] = field(default_factory=dict)
     spring_usage: dict[str, str] = field(default_factory=dict)
     subsystem: dict[str, str] = field(default_factory=dict)
+    anti_roll_bar: AdamsMapping | None = None
+    steering: AdamsMapping | None = None
+    parameters: dict[str, str] = field(default_factory=dict)
+    curve: Path | None = None
+
+    def sections(self) -> dict[str, AdamsMapping]:
+        """The mapping of each subsystem given: ``suspension`` (this one), ``anti_roll_bar``,
+        ``steering``."""
+        out = {"suspension": self, "anti_roll_bar": self.anti_roll_bar,
+               "steering": self.steering}
+        return {k: v for k, v in out.items() if v is not None}
+
+    def all_hardpoints(self) -> set[str]:
+        """Every elastokin hardpoint named in any section."""
+        return {n for m in self.sections().values() for n in m.hardpoints}
 
 
 _MAPPING_KEYS = ("elastokin_adams_mapping", "side", "subsystem", "hardpoints", "bushings",
-                 "springs")
+                 "springs", "anti_roll_bar", "steering")
+_SECTION_KEYS = ("subsystem", "hardpoints", "bushings", "curve")
 
 
 def _fail(path: str, key: str, msg: str) -> ConfigError:
     return ConfigError(f"{path}: key '{key}': {msg}")
 
 
-def _hardpoints(p: str, hps) -> dict[str, tuple[str, str | None]]:
+def _hardpoints(p: str, hps, prefix: str = "") -> dict[str, tuple[str, str | None]]:
     if not isinstance(hps, dict) or not hps:
-        raise _fail(p, "hardpoints", "expected a mapping 'elastokin name: ADAMS name'")
+        raise _fail(p, prefix + "hardpoints", "expected a mapping 'elastokin name: ADAMS name'")
     hardpoints = {}
     for name, spec in hps.items():
-        key = f"hardpoints.{name}"
+        key = f"{prefix}hardpoints.{name}"
         hp_side = None
         if isinstance(spec, dict):
             extra = set(spec) - {"adams", "side"}
@@ -127,6 +160,47 @@ def _named(p: str, section: str, data, keys: tuple[str, ...]) -> dict[str, dict[
     return out
 
 
+def _subsystem(p: str, subsystem, prefix: str = "") -> dict[str, str]:
+    subsystem = subsystem or {}
+    if not isinstance(subsystem, dict):
+        raise _fail(p, prefix + "subsystem", f"expected a mapping of {', '.join(SUBSYSTEM_KEYS)}")
+    for k, v in subsystem.items():
+        if k not in SUBSYSTEM_KEYS:
+            raise _fail(p, f"{prefix}subsystem.{k}", "unknown key (expected "
+                        f"{', '.join(SUBSYSTEM_KEYS)})")
+        if not isinstance(v, str) or not v.strip():
+            raise _fail(p, f"{prefix}subsystem.{k}", "expected a text")
+    return {k: str(v).strip() for k, v in subsystem.items()}
+
+
+def _section(path: str | Path, data, key: str, side: str | None) -> AdamsMapping | None:
+    """The ``anti_roll_bar`` or ``steering`` section: a mapping of its own subsystem."""
+    if data is None:
+        return None
+    p = str(path)
+    params = PARAMETER_KEYS[key]
+    allowed = (*_SECTION_KEYS, *params)
+    if not isinstance(data, dict):
+        raise _fail(p, key, f"expected a mapping of {', '.join(allowed)}")
+    for k in data:
+        if k not in allowed:
+            raise _fail(p, f"{key}.{k}", f"unknown key (expected {', '.join(allowed)})")
+    for k in (*params, "curve"):
+        if k in data and (not isinstance(data[k], str) or not data[k].strip()):
+            raise _fail(p, f"{key}.{k}", "expected an ADAMS parameter name" if k != "curve"
+                        else "expected a curve file name")
+    hps = data.get("hardpoints")
+    hardpoints = _hardpoints(p, hps, f"{key}.") if hps is not None else {}
+    bushings = _named(p, f"{key}.bushings", data.get("bushings"), ("file", "usage"))
+    return AdamsMapping(
+        p, side, hardpoints,
+        {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
+        {n: b["usage"] for n, b in bushings.items() if "usage" in b}, {},
+        _subsystem(p, data.get("subsystem"), f"{key}."),
+        parameters={k: data.get(k, default).strip() for k, default in params.items()},
+        curve=Path(path).parent / data["curve"].strip() if "curve" in data else None)
+
+
 def read_mapping(path: str | Path) -> AdamsMapping:
     """Read a mapping file (YAML, see ``docs/adams.md``)."""
     data, _ = read_yaml(path, "ADAMS mapping file")  # strict YAML: no key twice
@@ -142,17 +216,11 @@ def read_mapping(path: str | Path) -> AdamsMapping:
     hardpoints = _hardpoints(p, data.get("hardpoints"))
     bushings = _named(p, "bushings", data.get("bushings"), ("file", "usage"))
     springs = _named(p, "springs", data.get("springs"), ("usage",))
-    subsystem = data.get("subsystem") or {}
-    if not isinstance(subsystem, dict):
-        raise _fail(p, "subsystem", f"expected a mapping of {', '.join(SUBSYSTEM_KEYS)}")
-    for k, v in subsystem.items():
-        if k not in SUBSYSTEM_KEYS:
-            raise _fail(p, f"subsystem.{k}", f"unknown key (expected {', '.join(SUBSYSTEM_KEYS)})")
-        if not isinstance(v, str) or not v.strip():
-            raise _fail(p, f"subsystem.{k}", "expected a text")
     return AdamsMapping(
         p, side, hardpoints,
         {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
         {n: b["usage"] for n, b in bushings.items() if "usage" in b},
         {n: s["usage"] for n, s in springs.items()},
-        {k: str(v).strip() for k, v in subsystem.items()})
+        _subsystem(p, data.get("subsystem")),
+        anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side),
+        steering=_section(path, data.get("steering"), "steering", side))

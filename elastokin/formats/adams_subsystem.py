@@ -8,7 +8,11 @@ Pure Python/numpy. Hardpoints are in ADAMS/Car's global frame (X rearward, Y rig
 ``left/right`` row stores the left point; two elastokin points mapped onto the two sides of one
 ADAMS hardpoint that are not each other's mirror are written as an asymmetric pair (a ``left``
 and a ``right`` row); a point mapped onto a ``single`` hardpoint (``hps_`` prefix) is a
-``single`` row. Conventions: ``docs/adams.md``.
+``single`` row. On an axle the other side's copy of each hardpoint is written with it: a
+``left/right`` row when it is the mirror, else the asymmetric pair. A ``[PARAMETER]`` block
+(``{parameter_name symmetry type value}`` with a description row under each, as ADAMS/Car
+writes it) carries the anti-roll bar's and the steering's scalar data. Conventions:
+``docs/adams.md``.
 """
 
 from __future__ import annotations
@@ -26,9 +30,11 @@ from elastokin.formats.adams_property_files import UNITS_LINES, key_line, number
 __all__ = [
     "AssemblyRow",
     "HardpointRow",
+    "ParameterRow",
     "SubsystemSpec",
     "adams_name",
     "hardpoint_rows",
+    "parameter_lines",
     "safe_name",
     "subsystem_text",
 ]
@@ -70,12 +76,27 @@ class HardpointRow:
 
 @dataclass(frozen=True)
 class AssemblyRow:
-    """One assembly block: USAGE, PROPERTY_FILE and its other keys, and comment lines."""
+    """One assembly block: USAGE, PROPERTY_FILE and its other keys, comment lines, and its
+    SYMMETRY (``left/right``: the same values on both sides; ``left``, ``right``: one side of
+    a pair whose sides differ; ``single``)."""
 
     usage: str
     property_file: str
     values: tuple[tuple[str, float | str], ...]
     comments: tuple[str, ...] = ()
+    symmetry: str = "left/right"
+
+
+@dataclass(frozen=True)
+class ParameterRow:
+    """A ``[PARAMETER]`` row: name, symmetry, type (``real`` or ``integer``), value (in the
+    unit its description states) and the description row written under it."""
+
+    name: str
+    symmetry: str
+    type: str
+    value: float
+    description: str
 
 
 def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
@@ -94,27 +115,31 @@ def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
     return adams, side or (mapping.side if mapping and mapping.side else default_side)
 
 
-def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None
+def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None,
+                   names: tuple[str, ...] | None = None
                    ) -> tuple[list[HardpointRow], dict[str, tuple[str, str]]]:
-    """The ``[HARDPOINT]`` rows of a suspension (ADAMS frame) and, per elastokin hardpoint, the
-    (ADAMS name, side) it was written as. Two points on one ADAMS hardpoint and side must be
-    the same point (ConfigError otherwise)."""
+    """The ``[HARDPOINT]`` rows of a suspension's hardpoints ``names`` (default: all; the
+    corner's names on an axle: their other-side copies are written with them) in the ADAMS
+    frame and, per elastokin hardpoint, the (ADAMS name, side) it was written as. Two points
+    on one ADAMS hardpoint and side must be the same point (ConfigError otherwise)."""
     per: dict[str, dict[str, tuple[np.ndarray, list[str]]]] = {}
     written = {}
-    for name, p in s.hardpoints.items():
+    if names is None:
+        names = tuple(s.hardpoints if s.axle is None else s.raw["hardpoints"])
+    for name in names:
         adams, side = adams_name(mapping, name, s.side)
-        q = config_to_adams(p, s.frame)
-        sides = per.setdefault(adams, {})
-        if side in sides:
-            old, names = sides[side]
-            if np.max(np.abs(old - q)) > 1e-9:
-                raise ConfigError(f"{mapping.path if mapping else s.source}: hardpoints "
-                                  f"{names[0]} and {name} are both written as the {side} point "
-                                  f"of ADAMS hardpoint '{adams}' but differ")
-            names.append(name)
-        else:
-            sides[side] = (q, [name])
+        entries = [(name, side)]
+        if s.axle is not None:
+            twin = name + s.axle.suffix
+            if _on_centre_plane(s, name, twin) and not _side_given(mapping, name):
+                side = "single"  # a point of a part declared once (the rack, the bar centre)
+            other = {"left": "right", "right": "left"}.get(side, side)
+            entries = [(name, side), (twin, other)]
         written[name] = (adams, side)
+        for key, pside in entries:
+            _add_point(per.setdefault(adams, {}), adams, pside, key,
+                       config_to_adams(s.hardpoints[key], s.frame),
+                       mapping.path if mapping else s.source)
     rows = []
     mirror = np.array([1.0, -1.0, 1.0])
     for adams, sides in per.items():
@@ -137,18 +162,59 @@ def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None
     return rows, written
 
 
-def _assembly(block: str, definition: str, symmetry: str, row: AssemblyRow) -> list[str]:
-    keys = [("DEFINITION", definition), ("USAGE", row.usage), ("SYMMETRY", symmetry),
+def _on_centre_plane(s: Suspension, name: str, twin: str) -> bool:
+    """A hardpoint on the vehicle centre plane whose other-side copy is itself."""
+    p, q = s.hardpoints[name], s.hardpoints[twin]
+    return bool(p[1] == 0.0 and np.all(p == q))
+
+
+def _side_given(mapping: AdamsMapping | None, name: str) -> bool:
+    """The mapping gives the ADAMS side of hardpoint ``name`` (a prefix or ``side``)."""
+    if mapping is None or name not in mapping.hardpoints:
+        return False
+    adams, side = mapping.hardpoints[name]
+    return side is not None or any(adams.lower().startswith(p) for p in _PREFIX)
+
+
+def _add_point(sides: dict, adams: str, side: str, name: str, q: np.ndarray,
+               source: str) -> None:
+    """One elastokin point written as ``side`` of ADAMS hardpoint ``adams``."""
+    if side in sides:
+        old, names = sides[side]
+        if np.max(np.abs(old - q)) > 1e-9:
+            raise ConfigError(f"{source}: hardpoints {names[0]} and {name} are both written as "
+                              f"the {side} point of ADAMS hardpoint '{adams}' but differ")
+        names.append(name)
+    else:
+        sides[side] = (q, [name])
+
+
+def _assembly(block: str, definition: str, row: AssemblyRow) -> list[str]:
+    keys = [("DEFINITION", definition), ("USAGE", row.usage), ("SYMMETRY", row.symmetry),
             ("PROPERTY_FILE", row.property_file), *row.values]
     width = max(len(k) for k, _ in keys)
     return [rule(block), f"[{block}]", *row.comments, *(key_line(k, v, width) for k, v in keys)]
 
 
+def parameter_lines(rows: list[ParameterRow]) -> list[str]:
+    """The ``[PARAMETER]`` block, in the layout of ADAMS/Car's (a description row under each
+    parameter)."""
+    if not rows:
+        return []
+    lines = [rule("PARAMETER"), "[PARAMETER]",
+             "{parameter_name                  symmetry       type       value}"]
+    for r in rows:
+        lines += [f" '{r.name.ljust(28)}'  '{r.symmetry.ljust(10)}'   "
+                  f"{repr(r.type).ljust(9)}  {number(r.value)}",
+                  "  '" + r.description.replace("'", "`") + "'"]
+    return lines
+
+
 def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
                    bushings: list[AssemblyRow], springs: list[AssemblyRow],
-                   timestamp: str) -> str:
+                   timestamp: str, parameters: list[ParameterRow] | None = None) -> str:
     """The subsystem file: headers, units (mm, newton, deg, kg, sec), hardpoints, bushing and
-    spring assemblies (``left/right``: the same values on both sides)."""
+    spring assemblies (each with its SYMMETRY), parameters."""
     lines = [provenance(s),
              "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
              "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
@@ -160,14 +226,18 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
              key_line("MAJOR_ROLE", spec.major_role, 13),
              key_line("MINOR_ROLE", spec.minor_role, 13),
              key_line("TIMESTAMP", timestamp, 13),
-             rule("UNITS"), *UNITS_LINES, rule("HARDPOINT"), "[HARDPOINT]",
-             "{hardpoint_name                  symmetry         x_value    y_value    z_value}"]
+             rule("UNITS"), *UNITS_LINES]
+    if rows:
+        lines += [rule("HARDPOINT"), "[HARDPOINT]",
+                  "{hardpoint_name                  symmetry         x_value    y_value    "
+                  "z_value}"]
     width = max([len(r.name) for r in rows] + [28])
     for r in rows:
         lines.append(f" '{r.name.ljust(width)}'  '{r.symmetry.ljust(10)}'"
                      + "".join(" " + number(v).rjust(10) for v in r.xyz))
     for b in bushings:
-        lines += _assembly("BUSHING_ASSEMBLY", ".ACAR.forces.ac_bushing", "left/right", b)
+        lines += _assembly("BUSHING_ASSEMBLY", ".ACAR.forces.ac_bushing", b)
     for sp in springs:
-        lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", "left/right", sp)
+        lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", sp)
+    lines += parameter_lines(parameters or [])
     return "\n".join(lines) + "\n"

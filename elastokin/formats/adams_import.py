@@ -1,0 +1,328 @@
+"""ADAMS/Car files in, for an axle (:func:`import_adams_axle`): the suspension subsystem (its
+left/right pairs; where the sides differ, the other side's hardpoints and bushing laws as
+``axle.other_side`` overrides), the anti-roll bar subsystem (hardpoints, mount bushings, the
+torsional rate from its ``[PARAMETER]`` block or the curve file) and the steering subsystem
+(hardpoints, ``rack_ratio`` and the rack's travel limit, or the ratio curve), found from the
+files given, an ADAMS/Car database or an assembly file (:func:`subsystem_files`).
+
+Pure Python/numpy. Values in elastokin units (mm, N, N*mm, deg; a ``[PARAMETER]`` value in the
+subsystem's ``[UNITS]``, except ``rack_ratio``: rad/m, S.I., as ADAMS/Car gives it); points
+converted from ADAMS/Car's frame (X rearward, Y right, Z up) to the template's. A corner
+template is imported as before (:func:`elastokin.formats.adams_car.import_adams`).
+Conventions: ``docs/adams.md``, "Axles".
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, reflected_law
+from elastokin.errors import ConfigError
+from elastokin.formats.adams_assemblies import read_bushing_assemblies
+from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
+from elastokin.formats.adams_car import (
+    BushingProperties,
+    adams_to_config,
+    apply_bushings,
+    apply_hardpoints,
+    bushing_sources,
+    clean,
+    database_file,
+    import_adams,
+    lookup_hardpoint,
+    read_bushing,
+    read_hardpoints,
+    subsystem_file,
+)
+from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
+from elastokin.formats.teimorbit import read_teimorbit
+from elastokin.physics.joints import BUSHING_DIRECTIONS
+from elastokin.physics.laws import DirectionLaw
+
+__all__ = [
+    "ROLE_SECTIONS",
+    "SubsystemFiles",
+    "assembly_subsystems",
+    "import_adams_axle",
+    "subsystem_files",
+    "subsystem_role",
+]
+
+#: ADAMS/Car major role -> mapping section
+ROLE_SECTIONS = {"suspension": "suspension", "antirollbar": "anti_roll_bar",
+                 "steering": "steering"}
+
+
+@dataclass(frozen=True)
+class SubsystemFiles:
+    """The subsystem file of each section (None: not given)."""
+
+    suspension: Path
+    anti_roll_bar: Path | None = None
+    steering: Path | None = None
+
+    def of(self, section: str) -> Path | None:
+        return getattr(self, section)
+
+
+def subsystem_role(path: str | Path) -> tuple[str | None, str | None]:
+    """(MAJOR_ROLE, MINOR_ROLE) of a subsystem file's ``[SUBSYSTEM_HEADER]`` (lower case;
+    None, None for a file without one, e.g. a plain hardpoint table)."""
+    f = read_teimorbit(path, convert=False)
+    heads = f.blocks_named("SUBSYSTEM_HEADER")
+    if not heads:
+        return None, None
+    major, minor = heads[0].value("MAJOR_ROLE"), heads[0].value("MINOR_ROLE")
+    return (str(major).strip().lower() if major is not None else None,
+            str(minor).strip().lower() if minor is not None else None)
+
+
+def assembly_subsystems(path: str | Path) -> list[tuple[Path, int]]:
+    """The subsystem files an ADAMS/Car assembly (``.asy``) names in its ``[SUBSYSTEM]``
+    blocks (``USAGE``, an ``mdids://`` or ``<alias>/`` path taken in the database holding the
+    assembly, or a path relative to it), with the line of each."""
+    f = read_teimorbit(path, convert=False)
+    out = []
+    for b in f.blocks_named("SUBSYSTEM"):
+        usage = b.value("USAGE")
+        if not isinstance(usage, str) or not usage.strip():
+            raise f.error(b.line, b.name, "USAGE = 'subsystem file' is missing")
+        out.append((database_file(usage, path), b.entries["USAGE"].line))
+    if not out:
+        raise ConfigError(f"{f.path}: no [SUBSYSTEM] block: not an ADAMS/Car assembly file")
+    return out
+
+
+def _pick(found: dict[str, list[tuple[Path, str | None]]], section: str, minor: str | None,
+          what: str) -> Path | None:
+    files = found.get(section, [])
+    if len(files) > 1 and minor is not None:
+        files = [f for f in files if f[1] == minor] or files
+    if len(files) > 1:
+        raise ConfigError(f"{what}: {len(files)} {section} subsystems "
+                          f"({', '.join(str(f[0]) for f in files)}); give the minor role in "
+                          "the mapping file's subsystem section")
+    return files[0][0] if files else None
+
+
+def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
+                    assembly: str | Path | None = None, subsystems: Sequence[str | Path] = (),
+                    minor_role: str | None = None) -> SubsystemFiles:
+    """Which file is which subsystem: ``hardpoints`` (a subsystem file or an ADAMS/Car
+    database) for the suspension, with the mapping's other subsystems found beside it by
+    their names, or ``assembly`` (the subsystems it names); ``subsystems``: files whose
+    ``[SUBSYSTEM_HEADER]`` says their major role (``antirollbar``, ``steering``), taken before
+    those found by name. Of several subsystems of one role, the one of ``minor_role`` (front,
+    rear) is taken."""
+    found: dict[str, list[tuple[Path, str | None]]] = {}
+    what = str(assembly or hardpoints)
+    listed: list[tuple[Path, str]] = []
+    if assembly is not None:
+        for path, line in assembly_subsystems(assembly):
+            if not path.is_file():
+                raise ConfigError(f"{assembly}, line {line}, block [SUBSYSTEM]: the subsystem "
+                                  f"file {path} does not exist")
+            listed.append((path, f"{assembly}, line {line}"))
+    listed += [(Path(p), str(p)) for p in subsystems]
+    if hardpoints is not None:
+        main = subsystem_file(hardpoints, mapping.subsystem.get("name"))
+        found["suspension"] = [(main, minor_role)]
+        given = {subsystem_role(p)[0] for p, _ in listed}
+        for section, m in mapping.sections().items():
+            # the mapping's other subsystems beside the suspension's, unless given
+            path = main.parent / f"{m.subsystem.get('name')}.sub"
+            major = next(k for k, v in ROLE_SECTIONS.items() if v == section)
+            if section != "suspension" and major not in given and path.is_file():
+                listed.append((path, str(hardpoints)))
+    for path, where in listed:
+        major, minor = subsystem_role(path)
+        section = ROLE_SECTIONS.get(major or "suspension")
+        if section is None:
+            if assembly is None:
+                raise ConfigError(f"{where}: subsystem {path} has MAJOR_ROLE '{major}'; "
+                                  f"expected one of {', '.join(ROLE_SECTIONS)}")
+            continue  # an assembly's wheels, body, powertrain...: not a suspension's
+        found.setdefault(section, []).append((path, minor))
+    if "suspension" not in found:
+        raise ConfigError(f"{what}: no suspension subsystem (MAJOR_ROLE 'suspension')")
+    return SubsystemFiles(*(_pick(found, s, minor_role, what)
+                            for s in ("suspension", "anti_roll_bar", "steering")))
+
+
+def _other(side: str) -> str:
+    return "right" if side == "left" else "left"
+
+
+def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
+    """The other side's points of the mapped hardpoints: an override in
+    ``axle.other_side.hardpoints`` where they are not the mirror of the config side's."""
+    side = mapping.side or cfg["side"]
+    over = cfg["axle"].setdefault("other_side", {}).setdefault("hardpoints", {})
+    for name, (adams, hp_side) in mapping.hardpoints.items():
+        where = f"{mapping.path}: key 'hardpoints.{name}'"
+        hp, this = lookup_hardpoint(points, adams, hp_side, where)
+        if hp.symmetry == "single":
+            over.pop(name, None)
+            continue
+        try:
+            q = adams_to_config(hp.at(_other(this or side)), cfg["frame"])
+        except ConfigError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        p = np.asarray(cfg["hardpoints"][name], float)
+        if np.array_equal(MIRROR @ p, q):
+            over.pop(name, None)
+        else:
+            over[name] = [clean(v) for v in q]
+
+
+def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
+                         props: Mapping[str, BushingProperties]) -> list[Path]:
+    """Where a bushing's ``right`` and ``left`` blocks name different property files: the
+    other side's laws, as ``axle.other_side.connections`` overrides of the directions that
+    are not the mirror of the config side's. Returns the files read."""
+    side = mapping.side or cfg["side"]
+    blocks = read_bushing_assemblies(sub)
+    over = cfg["axle"].setdefault("other_side", {}).setdefault("connections", {})
+    read = []
+    for name, usage in mapping.bushing_usage.items():
+        sides = blocks.get(usage, {})
+        a, b = sides.get(side), sides.get(_other(side))
+        if name in props and a is not None and b is not None and \
+                a.property_file != b.property_file and b.property_file:
+            path = database_file(b.property_file, sub)
+            read.append(path)
+            other = read_bushing(path).stiffness
+            this = cfg["connections"][name]["stiffness"]
+            diff = {d: copy.deepcopy(other[d]) for d in BUSHING_DIRECTIONS
+                    if _mirrored(this[d], d) != _law(other[d])}
+            if diff:
+                over[name] = {"stiffness": diff}
+                continue
+        if name in props:
+            over.pop(name, None)
+    return read
+
+
+def _law(spec) -> DirectionLaw:
+    """The law of a config ``stiffness`` entry: a rate, or ``{deflection, load}``."""
+    if isinstance(spec, (int, float)):
+        return DirectionLaw.linear(float(spec))
+    return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
+
+
+def _mirrored(spec, direction: str):
+    law = _law(spec)
+    flipped = BUSHING_DIRECTIONS.index(direction) in MIRRORED_DIRECTIONS
+    return reflected_law(law) if flipped else law
+
+
+def _section_files(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
+                   warnings: list[str]) -> tuple[dict, list[Path]]:
+    """The hardpoints and bushings of one section's subsystem (both sides)."""
+    points = read_hardpoints(sub, warnings)
+    if m.hardpoints:
+        cfg, more = apply_hardpoints(cfg, points, m, source, warn_unmapped=False)
+        warnings += more
+    files = bushing_sources(sub, m, m.side or cfg["side"],
+                            {k: v for k, v in (bushing_files or {}).items()
+                             if k in m.bushings or k in m.bushing_usage})
+    props = {n: read_bushing(f) for n, f in files.items()}
+    for p in props.values():
+        warnings += p.warnings
+    cfg = apply_bushings(cfg, props, source)
+    if "axle" in cfg:
+        _other_side_hardpoints(cfg, points, m)
+        files = [*files.values(), *_other_side_bushings(cfg, sub, m, props)]
+    else:
+        files = list(files.values())
+    return cfg, files
+
+
+def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str | Path,
+                      bushing_files: Mapping[str, str | Path] | None = None,
+                      source: str = "template config") -> tuple[dict, list[str], list[Path]]:
+    """An elastokin config dict from an axle's ADAMS/Car subsystems (module docstring):
+    ``template`` (a corner, or an axle config) with the hardpoints and bushings of every
+    section of the mapping file, and on an axle its other side, anti-roll bar and steering.
+    Returns (config, warnings, the property and curve files read). Not yet validated."""
+    mapping = read_mapping(mapping_file)
+    cfg, warnings = import_adams(template, files.suspension, mapping_file, bushing_files,
+                                 source)
+    read = list(bushing_sources(files.suspension, mapping, mapping.side or cfg["side"],
+                                bushing_files).values())
+    sections = mapping.sections()
+    if "axle" not in cfg and len(sections) > 1:
+        keys = ", ".join(k for k in sections if k != "suspension")
+        raise ConfigError(f"{mapping.path}: keys {keys}: {source} is a corner (no 'axle' "
+                          "section)")
+    if "axle" in cfg:
+        cfg["axle"] = dict(cfg["axle"] or {})
+        _other_side_hardpoints(cfg, read_hardpoints(files.suspension), mapping)
+        props = {n: None for n in mapping.bushing_usage}
+        read += _other_side_bushings(cfg, files.suspension, mapping, props)
+    for section in ("anti_roll_bar", "steering"):
+        m = sections.get(section)
+        if m is None:
+            if (cfg.get("axle") or {}).get(section):
+                warnings.append(f"{mapping.path}: no '{section}' section: the {section} of "
+                                f"{source} is kept as it was (its hardpoints from the "
+                                "suspension subsystem where the mapping names them)")
+            continue
+        sub = files.of(section)
+        if sub is None:
+            raise ConfigError(f"{mapping.path}: key '{section}': no {section} subsystem given "
+                              f"(import-adams --subsystem FILE.sub, an --assembly naming it, "
+                              f"or a database holding '{m.subsystem.get('name', '?')}.sub')")
+        if not (cfg.get("axle") or {}).get(section):
+            raise ConfigError(f"{mapping.path}: key '{section}': {source} has no "
+                              f"axle.{section} to take it")
+        cfg, more = _section_files(cfg, sub, m, bushing_files, source, warnings)
+        read += more
+        read += _section_values(cfg, section, sub, m)
+    _tidy(cfg)
+    return cfg, warnings, read
+
+
+def _section_values(cfg: dict, section: str, sub: Path, m: AdamsMapping) -> list[Path]:
+    """The anti-roll bar's rate or curve, the steering's ratio or curve and travel limit."""
+    spec = cfg["axle"][section] = dict(cfg["axle"][section])
+    params = read_parameters(sub)
+    if section == "anti_roll_bar":
+        if m.curve is not None:
+            u, f = read_curve(m.curve, ("rot", "torque"))
+            spec.pop("rate_Nmm_per_deg", None)
+            spec["curve"] = {"deflection": u, "load": f}
+            return [m.curve]
+        spec.pop("curve", None)
+        spec["rate_Nmm_per_deg"] = params.positive(m.parameters["stiffness"],
+                                                   "rotational_stiffness",
+                                                   "the anti-roll bar's torsional rate")
+        return []
+    spec["limit_mm"] = params.positive(m.parameters["travel_limit"], "length",
+                                       "the rack's travel limit each way")
+    if m.curve is not None:
+        u, x = read_curve(m.curve, ("rot", "disp"))
+        spec.pop("ratio_mm_per_rev", None)
+        spec["ratio_curve"] = {"steering_wheel_deg": u, "rack_travel_mm": x}
+        return [m.curve]
+    spec.pop("ratio_curve", None)
+    spec["ratio_mm_per_rev"] = rack_ratio_check(params, m.parameters["rack_ratio"])
+    return []
+
+
+def _tidy(cfg: dict) -> None:
+    """Empty ``axle.other_side`` entries left out."""
+    axle = cfg.get("axle")
+    if not isinstance(axle, dict) or "other_side" not in axle:
+        return
+    o = axle["other_side"]
+    for k in ("hardpoints", "connections"):
+        if k in o and not o[k]:
+            del o[k]
+    if not o:
+        del axle["other_side"]
