@@ -20,14 +20,17 @@ from elastokin.errors import MeasurementError
 from elastokin.formats.kc_test import read_kc_test, write_kc_test
 from elastokin.formats.kc_test_sweeps import read_test_sweeps, to_sweep
 from elastokin.formats.kc_test_sweeps import sweep_to_test_channels as kc_test_channels
+from elastokin.mbs.design import build_model
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.rig.channels import ERRORS, LOAD_CASES
 from elastokin.rig.characteristics import steer_amplitude_deg
 from elastokin.rig.comparison import curve_error_rms, rig_for_test, travel_stroke_note
-from elastokin.rig.load_cases import parallel_travel, static_equilibrium
+from elastokin.rig.drives import parallel_travel_drive
+from elastokin.rig.load_cases import parallel_travel, run_drive_sides, static_equilibrium
 from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.real_suspension import (
     progressive_law,
+    real_axle_variant,
     real_suspension_model,
     write_kc_test_files,
 )
@@ -101,13 +104,17 @@ def test_loading_and_unloading_differ_for_the_real_suspension_only():
                - toe_at_zero(frictionless, "return")) < 1e-7
 
 
-@pytest.mark.slow  # the real suspension's whole travel sweep (friction, 4 substeps)
+@pytest.mark.slow  # the real suspension's whole travel sweep (friction, 4 substeps), twice
 def test_shipped_test_file_regenerates_byte_for_byte(tmp_path):
     """`elastokin synthesize` writes the same bytes (parallel travel: the one the steer
-    amplitude comes from; the other load cases use the same writer)."""
+    amplitude comes from; the other load cases use the same writer): the left wheel from the
+    corner alone, the right from the real axle (docs/kc_test_data.md)."""
     s = load_suspension(CASE)
-    sweep = parallel_travel(real_suspension_model(s), "test")
-    path, = write_kc_test_files(s, tmp_path, sweeps=[sweep])
+    left = parallel_travel(real_suspension_model(s), "test")
+    axle = build_model(real_axle_variant(s))
+    right = run_drive_sides(axle, "test", parallel_travel_drive(s))[1]
+    assert (left.side, right.side) == ("left", "right")
+    path, = write_kc_test_files(s, tmp_path, sweeps=[left, right])
     assert path.read_bytes() == (KC_TEST / "parallel_travel.csv").read_bytes()
 
 
@@ -151,8 +158,9 @@ def test_test_channels_round_trip_to_config_frame_sweeps(tmp_path, side, case_di
 
 def test_shipped_test_files_read_with_rig_branches():
     sweeps, files = read_test_sweeps(load_suspension(CASE))
-    assert len(files) == 6
+    assert len(files) == 10  # the corner's six load cases and four of the axle's
     travel = next(sw for sw in sweeps if sw.load_case == "parallel_travel")
+    assert travel.side == "left"  # the config side's first
     stroke = travel.stroke("wheel_travel_mm")
     assert stroke[0] == pytest.approx(-90, abs=1.0) and stroke[-1] == pytest.approx(90, abs=1.0)
     assert set(travel.columns["branch"]) == {"approach", "stroke", "return"}
@@ -216,8 +224,12 @@ def test_kc_summary_contract_errors_and_report(case_kc):
         for key in keys:
             assert isinstance(summary["models"][label][key], float), (label, key)
     for label in ("initial", "identified", "identified_stiffness"):
-        assert set(summary["errors"][label]) >= set(ERRORS)
-        assert all(isinstance(v, float) for v in summary["errors"][label].values())
+        errors = summary["errors"][label]
+        assert set(errors) == set(ERRORS) | {"right"}  # the test has both wheels
+        assert all(isinstance(errors[k], float) for k in ERRORS)
+        assert set(errors["right"]) == set(ERRORS)
+        assert all(isinstance(v, float) for v in errors["right"].values())
+    assert isinstance(summary["models"]["test"]["right"]["steer_amplitude_deg"], float)
     test = summary["models"]["test"]
     # the test's amplitude is the shipped file's (benchmarks/steer_amplitude_baseline.json)
     baseline = json.loads((CASE.parents[1] / "benchmarks" /

@@ -125,7 +125,7 @@ def test_self_contained_and_provenance_as_a_short_table(page, results):
     for f in summary["input_files"]:
         assert f["sha256"] and f["sha256"] in text, f
     roles = [f["role"] for f in summary["input_files"]]
-    assert roles[:2] == ["config", "rig file"] and roles.count("K&C test") == 6
+    assert roles[:2] == ["config", "rig file"] and roles.count("K&C test") == 10
     assert summary["config_sha256"] != summary["rig_sha256"]
     assert text.count("newton_relative_tolerance") == 1  # solver settings once
 

@@ -195,7 +195,7 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     writes one K&C test CSV per load case. The same config and seed give the same bytes.
     """
     from elastokin.config.loading import load_suspension
-    from elastokin.synthetic.real_suspension import write_kc_test_files
+    from elastokin.synthetic.real_suspension import kc_test_runs, write_kc_test_files
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
 
     with WarningLog() as log:
@@ -213,7 +213,7 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
             if kc_test and kc_test_dir is None and s.kc_test is not None:
                 _check_data_folder(here / s.kc_test.folder, "kc_test.folder")
             written = []
-            with progress_bar(cmm + 6 * kc_test) as progress:
+            with progress_bar(cmm + (kc_test_runs(s) if kc_test else 0)) as progress:
                 if cmm:
                     progress("virtual CMM: as-built suspension and its measurements")
                     files = run_synthesis(s, seed, out_dir)

@@ -2,11 +2,14 @@
 
 UTF-8 text: optional ``#`` comment lines (one may be ``# load_case: <name>``, the others are kept
 as notes), a header row of ``name [unit]`` cells, then one numeric row per rig step; the first
-column is the load case's input channel. Known channels (:data:`CHANNELS`) are converted once,
-here, to elastokin units (mm, N, N*mm, deg); unknown ones are kept unconverted and reported in
-:attr:`KCTest.warnings`. Frame: per wheel (``docs/characteristics.md``): longitudinal forward,
-lateral outboard, vertical up; toe-in +, camber top outboard +; forces and the aligning torque
-(toe-in sense +) are those the rig applies to the wheel. Problems raise
+column is the load case's input channel. A file holds one wheel (``toe``) or both wheels of an
+axle (per-wheel channels suffixed ``_left`` / ``_right``, per-axle ones such as ``roll_angle``
+once; :mod:`elastokin.formats.kc_test_channels`). Known channels (:data:`CHANNELS`) are
+converted once, here, to elastokin units (mm, N, N*mm, deg, ``-``); unknown ones are kept
+unconverted and reported in :attr:`KCTest.warnings`. Frame: per wheel
+(``docs/characteristics.md``): longitudinal forward, lateral outboard, vertical up; toe-in +,
+camber top outboard +; forces and the aligning torque (toe-in sense +) are those the rig
+applies to the wheel. Problems raise
 :class:`~elastokin.errors.MeasurementError` naming the file and the column or line;
 :func:`write_kc_test` writes deterministic bytes.
 """
@@ -23,14 +26,25 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.errors import MeasurementError
+from elastokin.formats.kc_test_channels import (
+    CHANNELS,
+    LOAD_CASES,
+    SIDES,
+    UNITS,
+    Channel,
+    LoadCase,
+    check_layout,
+    column_side,
+    input_columns,
+)
 from elastokin.formats.text import read_text
-from elastokin.rig.channels import CHANNEL_LIST, LOAD_CASE_LIST
 
 __all__ = [
     "CHANNELS",
     "DEFAULT_JITTER_TOLERANCE",
     "LOAD_CASES",
     "MAX_BRANCHES",
+    "SIDES",
     "UNITS",
     "Channel",
     "KCTest",
@@ -40,54 +54,9 @@ __all__ = [
     "write_kc_test",
 ]
 
-#: accepted units per quantity and their factor to the elastokin unit (the first entry)
-UNITS: dict[str, dict[str, float]] = {
-    "length": {"mm": 1.0, "cm": 10.0, "m": 1000.0},
-    "force": {"N": 1.0, "kN": 1000.0},
-    "torque": {"N*mm": 1.0, "N*m": 1000.0, "kN*m": 1.0e6},
-    "angle": {"deg": 1.0, "rad": 180.0 / math.pi},
-}
-
 #: spellings read as the unit on the right (after removing spaces)
 _UNIT_ALIASES = {"Nmm": "N*mm", "Nm": "N*m", "kNm": "kN*m", "°": "deg", "degree": "deg",
                  "degrees": "deg", "radian": "rad", "radians": "rad"}
-
-
-@dataclass(frozen=True)
-class Channel:
-    """A known test-file channel (from the channel table, :mod:`elastokin.rig.channels`): its
-    quantity (a key of :data:`UNITS`) and its per-wheel sign convention."""
-
-    name: str
-    quantity: str
-    meaning: str
-
-    @property
-    def unit(self) -> str:
-        """The elastokin unit values are converted to."""
-        return next(iter(UNITS[self.quantity]))
-
-
-#: known channels by name
-CHANNELS: dict[str, Channel] = {c.test: Channel(c.test, c.quantity, c.test_meaning)
-                                 for c in CHANNEL_LIST if c.test}
-
-
-@dataclass(frozen=True)
-class LoadCase:
-    """A load case: its input channel (the file's first column) and the measured channels it
-    must have."""
-
-    name: str
-    input: str
-    required: tuple[str, ...]
-    meaning: str
-
-
-#: supported load cases by name (a corner's)
-LOAD_CASES: dict[str, LoadCase] = {c.name: LoadCase(c.name, c.test_input, c.test_required,
-                                                   c.meaning) for c in LOAD_CASE_LIST
-                                   if c.corner}
 
 #: a sweep may have at most this many monotonic branches (e.g. 0 -> +max -> -max -> 0)
 MAX_BRANCHES = 3
@@ -99,11 +68,13 @@ DEFAULT_JITTER_TOLERANCE = 0.01
 class KCTest:
     """One load case measured on a K&C rig, in elastokin units.
 
-    ``channels``: name -> values per rig step (file order; the input channel first);
+    ``channels``: column name -> values per rig step (file order; the input channel first,
+    ``input_channel`` its column, e.g. ``wheel_travel`` or ``wheel_travel_left``);
     ``units``: name -> unit of the values (the elastokin unit for known channels, the file's
     unit, possibly ``""``, for unknown ones); ``branches``: the monotonic branches of the input
     as slices (neighbours share their turning point); ``notes``: the file's free-text comment
-    lines; ``warnings``: what a user should be told (unknown channels).
+    lines; ``warnings``: what a user should be told (unknown channels); ``sides``: the wheels
+    of a file with both (``("left", "right")``, file order), ``()`` for a one-wheel file.
     """
 
     load_case: str
@@ -115,6 +86,24 @@ class KCTest:
     unknown_channels: tuple[str, ...] = ()
     branches: tuple[slice, ...] = ()
     warnings: list[str] = field(default_factory=list)
+    sides: tuple[str, ...] = ()
+
+    def wheel(self, side: str = "") -> dict[str, np.ndarray]:
+        """One wheel's known channels under their channel names (``toe_left`` -> ``toe``), with
+        the per-axle ones; ``side`` "" for a one-wheel file (then every channel, as read)."""
+        if not self.sides:
+            if side:
+                raise KeyError(f"{self.source}: a one-wheel file has no '{side}' channels")
+            return dict(self.channels)
+        if side not in self.sides:
+            raise KeyError(f"{self.source}: no '{side}' channels (sides: "
+                           f"{', '.join(self.sides)})")
+        out = {}
+        for name, values in self.channels.items():
+            base, s = column_side(name)
+            if s == side or (base in CHANNELS and CHANNELS[base].per_axle):
+                out[base] = values
+        return out
 
     @property
     def input(self) -> np.ndarray:
@@ -298,7 +287,11 @@ def _parse_header(p: Path, header_line: str, header_at: int) -> _Header:
                                    f"'{name}' appears twice (first in column "
                                    f"{names.index(name) + 1})")
         names.append(name)
-        channel = CHANNELS.get(name)
+        try:
+            base = column_side(name)[0]
+        except ValueError as exc:
+            raise MeasurementError(f"{p}: header, column {k} '{cell.strip()}': {exc}") from None
+        channel = CHANNELS.get(base)
         if channel is None:
             unknown.append(name)
             units[name] = (unit or "").strip()
@@ -317,20 +310,13 @@ def _parse_header(p: Path, header_line: str, header_at: int) -> _Header:
     return _Header(names, units, factors, unknown, [c.strip() for c in raw])
 
 
-def _check_channels(p: Path, load_case: str, header: _Header) -> None:
-    """The load case's input channel comes first and its required channels are present."""
-    case = LOAD_CASES[load_case]
-    names, display = header.names, header.display
-    if names[0] != case.input:
-        inp = CHANNELS[case.input]
-        raise MeasurementError(f"{p}: header: load case '{load_case}' needs its input channel "
-                               f"'{case.input} [{inp.unit}]' as the first column; the first "
-                               f"column is '{display[0]}'")
-    missing = [c for c in case.required if c not in names]
-    if missing:
-        need = ", ".join(f"'{c} [{CHANNELS[c].unit}]'" for c in missing)
-        raise MeasurementError(f"{p}: header: load case '{load_case}' needs channel(s) {need}; "
-                               f"the file has {', '.join(display)}")
+def _check_channels(p: Path, load_case: str, header: _Header) -> tuple[str, ...]:
+    """The load case's input channel comes first, its required channels are present and
+    per-wheel channels name their side on both wheels or on none: the file's sides."""
+    try:
+        return check_layout(load_case, header.names, header.display)
+    except ValueError as exc:
+        raise MeasurementError(f"{p}: header: {exc}") from None
 
 
 def _parse_rows(p: Path, lines: Sequence[str], header_at: int, header: _Header
@@ -383,7 +369,7 @@ def read_kc_test(path: str | Path,
     notes, declared, header_at = _read_comments(p, lines)
     load_case = _resolve_load_case(p, declared)
     header = _parse_header(p, lines[header_at - 1], header_at)
-    _check_channels(p, load_case, header)
+    sides = _check_channels(p, load_case, header)
     names, display = header.names, header.display
     rows, row_lines = _parse_rows(p, lines, header_at, header)
     data = np.array(rows, float).reshape(len(rows), len(names)) * np.array(header.factors)
@@ -394,8 +380,8 @@ def read_kc_test(path: str | Path,
     if header.unknown:
         listed = ", ".join(display[names.index(u)] for u in header.unknown)
         warnings.append(f"{p}: channel(s) elastokin does not know, kept unconverted: {listed}")
-    return KCTest(load_case, LOAD_CASES[load_case].input, channels, header.units, str(p), notes,
-                  tuple(header.unknown), branches, warnings)
+    return KCTest(load_case, names[0], channels, header.units, str(p), notes,
+                  tuple(header.unknown), branches, warnings, sides)
 
 
 # -------------------------------------------------------------------------------------- write
@@ -406,45 +392,35 @@ def _format(v: float, decimals: int) -> str:
     return s[1:] if re.fullmatch(r"-0\.?0*", s) else s
 
 
-def write_kc_test(path: str | Path, load_case: str, channels: Mapping[str, Sequence[float]], *,
-                  notes: Sequence[str] = (), units: Mapping[str, str] | None = None,
-                  decimals: int = 6) -> Path:
-    """Write one K&C test file; deterministic bytes (UTF-8, ``\\n`` line ends).
-
-    ``channels``: name -> values, known channels in elastokin units (mm, N, N*mm, deg); the
-    load case's input channel is written first, the others in the given order. ``units``
-    gives the unit written for unknown channels (none: no brackets). ``notes`` become ``#``
-    lines after ``# load_case:``. Values are written with ``decimals`` decimals. The data must
-    pass the checks :func:`read_kc_test` makes; they raise :class:`MeasurementError`.
-    """
-    p = Path(path)
-    if load_case not in LOAD_CASES:
-        raise MeasurementError(f"{p}: unknown load case '{load_case}' (expected one of "
-                               f"{', '.join(LOAD_CASES)})")
-    case = LOAD_CASES[load_case]
-    units = dict(units or {})
-    missing = [c for c in (case.input, *case.required) if c not in channels]
-    if missing:
-        raise MeasurementError(f"{p}: load case '{load_case}' needs channel(s) "
-                               f"{', '.join(missing)}")
-    order = [case.input, *(c for c in channels if c != case.input)]
-    arrays, header = [], []
-    for name in order:
+def _columns_to_write(p: Path, load_case: str, channels: Mapping[str, Sequence[float]],
+                      units: Mapping[str, str]) -> tuple[list[str], list[np.ndarray]]:
+    """The header cells and value arrays :func:`write_kc_test` writes, the input first (the
+    first of its columns in ``channels``), checked as the reader checks them."""
+    for name in channels:
         if _normalise_name(name) != name or not re.fullmatch(r"[a-z0-9_]+", name):
             raise MeasurementError(f"{p}: channel name '{name}': use lower-case letters, digits "
                                    "and '_'")
+    inputs = input_columns(load_case, list(channels))
+    order = [*inputs[:1], *(c for c in channels if c not in inputs[:1])]
+    try:
+        check_layout(load_case, order, order)
+        bases = [column_side(name)[0] for name in order]
+    except ValueError as exc:
+        raise MeasurementError(f"{p}: {exc}") from None
+    arrays, header = [], []
+    for name, base in zip(order, bases):
         values = np.asarray(channels[name], float)
         if values.ndim != 1 or not np.all(np.isfinite(values)):
             raise MeasurementError(f"{p}: channel '{name}': needs a 1-D array of finite values")
         if arrays and values.size != arrays[0].size:
             raise MeasurementError(f"{p}: channel '{name}' has {values.size} values, "
                                    f"'{order[0]}' has {arrays[0].size}")
-        if name in CHANNELS:
-            if name in units and _normalise_unit(units[name]) != CHANNELS[name].unit:
-                raise MeasurementError(f"{p}: channel '{name}' is written in "
-                                       f"{CHANNELS[name].unit} (elastokin units); convert "
-                                       f"the values instead of giving unit '{units[name]}'")
-            unit = CHANNELS[name].unit
+        if base in CHANNELS:
+            unit = CHANNELS[base].unit
+            if name in units and _normalise_unit(units[name]) != unit:
+                raise MeasurementError(f"{p}: channel '{name}' is written in {unit} (elastokin "
+                                       f"units); convert the values instead of giving unit "
+                                       f"'{units[name]}'")
         else:
             unit = units.get(name, "")
             if re.search(r"[\[\],\"]", unit):
@@ -454,7 +430,28 @@ def write_kc_test(path: str | Path, load_case: str, channels: Mapping[str, Seque
         header.append(f"{name} [{unit}]" if unit else name)
     _check_sweep(p, header[0], arrays[0], list(range(1, arrays[0].size + 1)),
                  DEFAULT_JITTER_TOLERANCE)
+    return header, arrays
 
+
+def write_kc_test(path: str | Path, load_case: str, channels: Mapping[str, Sequence[float]], *,
+                  notes: Sequence[str] = (), units: Mapping[str, str] | None = None,
+                  decimals: int = 6) -> Path:
+    """Write one K&C test file; deterministic bytes (UTF-8, ``\\n`` line ends).
+
+    ``channels``: name -> values, known channels in elastokin units (mm, N, N*mm, deg, ``-``);
+    one wheel's channels by their names (``toe``) or both wheels' with the side
+    (``toe_left``, ``toe_right``; per-axle channels without). The load case's input channel
+    is written first (of a per-wheel input given for both wheels, the first given), the
+    others in the given order. ``units`` gives the unit written for unknown channels (none:
+    no brackets). ``notes`` become ``#`` lines after ``# load_case:``. Values are written
+    with ``decimals`` decimals. The data must pass the checks :func:`read_kc_test` makes;
+    they raise :class:`MeasurementError`.
+    """
+    p = Path(path)
+    if load_case not in LOAD_CASES:
+        raise MeasurementError(f"{p}: unknown load case '{load_case}' (expected one of "
+                               f"{', '.join(LOAD_CASES)})")
+    header, arrays = _columns_to_write(p, load_case, channels, dict(units or {}))
     out = [f"# load_case: {load_case}"]
     for note in notes:
         for line in str(note).splitlines() or [""]:

@@ -35,6 +35,7 @@ class Channel:
     adams: str | None = None  # ADAMS-style channel name (export-adams --kc)
     adams_frame: str | None = None  # config-frame component converted to the ADAMS/Car frame
     fitted: bool = False  # compared with the test by the stiffness fit (when not the input)
+    per_axle: bool = False  # one value for the axle (the same in both wheels' sweeps)
 
     @property
     def quantity(self) -> str:
@@ -98,37 +99,41 @@ CHANNEL_LIST = (
     Channel("roll_angle_deg", "deg", "body roll relative to the line through the contact "
             "points, atan((travel right - travel left) / track), + when the body's left side "
             "rises (axle)", "roll angle [deg] (+ body's left side up)", test="roll_angle",
-            test_meaning="body roll angle, left side up +", adams="roll_angle"),
+            test_meaning="body roll angle, left side up +", adams="roll_angle", per_axle=True),
     Channel("roll_moment_Nmm", "N*mm", "moment the body needs to hold its roll against the "
             "contact-patch vertical forces, (Fz right - Fz left) * track / 2, + with a "
             "positive roll (axle)", "roll moment [N*mm]", test="roll_moment",
             test_meaning="roll moment of the vertical forces, + with roll",
-            adams="roll_moment"),
+            adams="roll_moment", per_axle=True),
     Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + turning the wheels "
             "to the left (ISO 8855; axle with steering)", "steering-wheel angle [deg] (+ left)",
-            test="steering_wheel_angle", test_meaning="steering-wheel angle",
-            adams="steering_wheel_angle"),
+            test="steering_wheel_angle",
+            test_meaning="steering-wheel angle, + turning the wheels to the left",
+            adams="steering_wheel_angle", per_axle=True),
     Channel("rack_travel_mm", "mm", "steering rack travel from the centre along its axis "
             "(axle with steering)", "rack travel [mm]", test="rack_travel",
-            test_meaning="rack travel from the centre", adams="rack_travel"),
+            test_meaning="rack travel from the centre along the rack's axis",
+            adams="rack_travel", per_axle=True),
     Channel("steer_angle_deg", "deg", "wheel steer angle, toe change from the static state "
             "turned into the vehicle's sense: + turning the wheel to the left (both wheels)",
             "steer angle [deg] (+ left)", test="steer_angle",
             test_meaning="steer angle, + to the left", adams="steer_angle"),
     Channel("arb_twist_deg", "deg", "twist of the anti-roll bar, the other side's half "
             "relative to the config side's about the bar's axis (axle)",
-            "anti-roll bar twist [deg]", adams="arb_twist"),
+            "anti-roll bar twist [deg]", adams="arb_twist", per_axle=True),
     Channel("arb_torque_Nmm", "N*mm", "torque in the anti-roll bar's torsion spring (axle)",
-            "anti-roll bar torque [N*mm]", adams="arb_torque"),
+            "anti-roll bar torque [N*mm]", adams="arb_torque", per_axle=True),
     Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
             "(instant centres of both wheels in the front view, ADAMS/Car's kinematic "
             "method; axle, parallel travel)", "roll centre height [mm]",
-            adams="roll_center_location_vertical"),
+            adams="roll_center_location_vertical", per_axle=True),
     Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
             "the vehicle's left (axle, parallel travel)", "roll centre lateral [mm] (+ left)",
-            adams="roll_center_location_lateral"),
+            adams="roll_center_location_lateral", per_axle=True),
     Channel("load_fraction", "-", "fraction of the static load case's loads applied, 0 at "
-            "the design wheel loads, 1 at the given loads", "load applied [-]"),
+            "the design wheel loads, 1 at the given loads", "load applied [-]",
+            test="load_fraction", test_meaning="fraction of the static load case's loads "
+            "applied (0 design, 1 given)", per_axle=True),
     *(Channel(f"contact_patch_f{a}_N", "N", "force the rig applies to the tyre at the contact "
               "patch, config frame", f"contact-patch force {a} [N] (config frame)",
               adams=f"tire_force_{a}", adams_frame=a) for a in "xyz"),

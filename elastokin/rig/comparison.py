@@ -24,7 +24,9 @@ def rig_for_test(test: list[Sweep], rig: RigSpec) -> RigSpec:
     nearest whole step), at the step sizes of ``rig`` (its defaults where ``rig`` leaves a
     case out); load cases without test data are left out (parallel travel stays ``rig``'s).
     The stiffness fit runs this rig, whatever rig the report uses."""
-    cases = {sw.load_case: sw for sw in test}
+    cases: dict[str, Sweep] = {}
+    for sw in test:  # the first sweep of a load case: the config side's (read_test_sweeps)
+        cases.setdefault(sw.load_case, sw)
     fields = {}
     for name, info in RigSpec.model_fields.items():
         base = getattr(rig, name) or info.default  # every case has a default spec
@@ -154,9 +156,22 @@ def curve_error_rms(model: Sweep, test: Sweep, x: str, y: str) -> float | None:
 
 
 def model_errors(model_sweeps: list[Sweep], test_sweeps: list[Sweep]) -> dict[str, float | None]:
-    """The errors of one model against the test (:data:`elastokin.rig.channels.ERRORS`)."""
+    """The errors of one model against the test on one wheel
+    (:data:`elastokin.rig.channels.ERRORS`)."""
     out = {}
     for name, e in ERRORS.items():
         m, t = find_sweep(model_sweeps, e.load_case), find_sweep(test_sweeps, e.load_case)
         out[name] = None if m is None or t is None else curve_error_rms(m, t, e.x, e.y)
+    return out
+
+
+def errors_by_side(model_sweeps: dict[str, list[Sweep]], test_sweeps: dict[str, list[Sweep]],
+                   side: str) -> dict:
+    """The errors of one model against the test on every wheel the test has (sweeps by
+    side): the config ``side``'s as :func:`model_errors` gives them, each other wheel's
+    under its side's name (``{"right": {metric: RMS}}``) when the model has that wheel."""
+    out: dict = model_errors(model_sweeps.get(side, []), test_sweeps.get(side, []))
+    for other, sweeps in test_sweeps.items():
+        if other != side and sweeps and model_sweeps.get(other):
+            out[other] = model_errors(model_sweeps[other], sweeps)
     return out

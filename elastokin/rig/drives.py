@@ -53,7 +53,9 @@ class Drive:
     the steering rack's travel per step (None: held); ``heave_load_N``: roll, the heave beam's
     total vertical load per step (the pads' heights then relative to it); ``columns``: more
     columns of the sweeps the drive defines (e.g. the steering-wheel angle); ``recorded``:
-    which steps the sweeps keep (None: all).
+    which steps the sweeps keep (None: all); ``side_inputs``: a wheel's own input where it
+    differs from ``inputs`` (opposite and single wheel travel: its pad height; lateral force
+    in anti-phase: the right wheel's force), its sweep's input column.
     """
 
     load_case: str
@@ -65,6 +67,7 @@ class Drive:
     heave_load_N: np.ndarray | None = None
     columns: dict[str, np.ndarray] = field(default_factory=dict)
     recorded: np.ndarray | None = None
+    side_inputs: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def _wheels(s: Suspension, n: int, z=None, pad=None, centre=None, per_side=None
@@ -108,7 +111,8 @@ def other_travel_drive(suspension: Suspension, case: str, spec: TravelSpec) -> D
     else:
         pads = {side: z if side == spec.moving else np.zeros(n) for side in s.sides}
     return Drive(case, "pad_z_mm", z, branch, {
-        side: WheelInputs(pads[side], zero, np.zeros((n, 6))) for side in s.sides})
+        side: WheelInputs(pads[side], zero, np.zeros((n, 6))) for side in s.sides},
+        side_inputs=pads)
 
 
 def roll_drive(suspension: Suspension, spec: RollSpec) -> Drive:
@@ -192,9 +196,11 @@ def force_drive(suspension: Suspension, case: str,
         values, branch = sweep_path(spec.amplitude_N, spec.step_N)
     axis = getattr(s, lc.direction)
     n = values.size
-    wheels = {}
+    wheels, own = {}, {}
     for side in s.sides:
         sign = -1.0 if (case == "lateral_force_anti_phase" and side == "right") else 1.0
+        if sign < 0:
+            own[side] = sign * values
         pad = np.tile(s.up * s.design.wheel_load_N, (n, 1))
         centre = np.zeros((n, 6))
         if lc.where == "patch":
@@ -204,7 +210,7 @@ def force_drive(suspension: Suspension, case: str,
         else:
             centre[:, 3:] = sign * values[:, None] * axis
         wheels[side] = WheelInputs(None, pad, centre)
-    return Drive(case, lc.input, values, branch, wheels)
+    return Drive(case, lc.input, values, branch, wheels, side_inputs=own)
 
 
 def _axle(suspension: Suspension, case: str) -> Suspension:

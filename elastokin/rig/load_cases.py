@@ -66,16 +66,19 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
                     variations=variations)
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
+    own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
     keep = drive.recorded
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
         cols = {k: v[keep] for k, v in cols.items()}
+        own = {k: v[keep] for k, v in own.items()}
     by_side = {side: [st[side] for st in steps] for side in s.sides}
     shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
     sweeps = []
     for side in s.sides:
         view = s.on_side(side)
-        columns = {**cols, **characteristics(by_side[side], view), **shared}
+        mine = {drive.input_column: own[side]} if side in own else {}
+        columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
     return sweeps

@@ -121,6 +121,7 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     if roll:
         attach_heave(model)
         inputs[HEAVE_LOAD] = np.asarray(heave_load_N, float)[:, None] * s.up
+        settle[HEAVE_LOAD] = inputs[HEAVE_LOAD][0]  # the beam carries the wheels as it settles
         model.set_support_axes(HEAVE, HEAVING)
     try:
         if variations:

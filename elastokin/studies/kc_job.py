@@ -40,14 +40,14 @@ from elastokin.config.variants import (
     side_couplings,
 )
 from elastokin.errors import ConfigError
-from elastokin.formats.kc_test_sweeps import read_test_sweeps
+from elastokin.formats.kc_test_sweeps import read_test_sweeps, side_sweeps
 from elastokin.identification.geometric import Identification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
 from elastokin.rig.axle_summary import axle_characteristics
 from elastokin.rig.characteristics import summary_figures
-from elastokin.rig.comparison import model_errors, travel_stroke_note
+from elastokin.rig.comparison import errors_by_side, travel_stroke_note
 from elastokin.rig.load_cases import (
     StaticResult,
     compliance_matrix,
@@ -85,20 +85,22 @@ class ModelResult:
 
     def summary(self) -> dict:
         """Summary figures (:func:`elastokin.rig.characteristics.summary_figures`) of the
-        config side's wheel; on an axle also the other wheel's (under its side) and the
-        axle's (``axle``, :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
+        config side's wheel; the other wheel's under its side (an axle, or a test with both
+        wheels) and on an axle the axle's (``axle``,
+        :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
         out = summary_figures(self.sweeps, self.kinematic, self.compliance)
-        if self.axle is None:
-            return out
-        s = self.axle
-        by_side = {s.side: self.sweeps, **self.other_sides}
-        sides = {s.side: out}
-        for side, sweeps in self.other_sides.items():
+        sides = {}
+        for side, sweeps in self.other_sides.items():  # the test's other wheel too
             sides[side] = summary_figures(sweeps, self.kinematic,
                                           None if self.axle_compliance is None
                                           else self.axle_compliance[6:, 6:])
             out[side] = sides[side]
-        out["axle"] = axle_characteristics(by_side, sides, s, self.axle_compliance)
+        if self.axle is None:
+            return out
+        s = self.axle
+        by_side = {s.side: self.sweeps, **self.other_sides}
+        out["axle"] = axle_characteristics(by_side, {s.side: out, **sides}, s,
+                                           self.axle_compliance)
         return out
 
 
@@ -273,6 +275,7 @@ def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
                           "with K&C test files, bushings, a compliant model (kinematic: false) "
                           "and kc_test.stiffness_identification.enabled: true")
     check_fit_on_corner(s)
+    test = side_sweeps(test, s.side, s)  # the corner's wheel: the test's other wheel is not fitted
     return identify_stiffness(corner(start.suspension), corner_preloads(start), test,
                               s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
@@ -311,16 +314,24 @@ def fitted_variant(start: ModelVariant, stiffness: StiffnessFit) -> ModelVariant
                         mirrored_design(stiffness.design, suffix))
 
 
-def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str]
-            ) -> tuple[dict[str, ModelResult], dict[str, dict], list[str]]:
-    """Step ``compare``: the test as the model ``test`` first, the errors of every model
-    against it and the warnings (none without test data)."""
+def compare(models: dict[str, ModelResult], test: list[Sweep], files: list[str],
+            side: str = "left") -> tuple[dict[str, ModelResult], dict[str, dict], list[str]]:
+    """Step ``compare``: the test as the model ``test`` first (the config ``side``'s wheel;
+    the other's, when the test has it, in its ``other_sides``), the errors of every model
+    against it on every wheel the test has (:func:`~elastokin.rig.comparison.errors_by_side`)
+    and the warnings (none without test data)."""
     if not test:
         return models, {}, []
-    errors = {label: model_errors(m.sweeps, test) for label, m in models.items()}
-    note = travel_stroke_note({k: m.sweeps for k, m in models.items()}, test)
-    result = ModelResult("test", False, test,
-                         {"source": "K&C rig test data (kc_test)", "files": files})
+    by_side: dict[str, list[Sweep]] = {}
+    for sw in test:
+        by_side.setdefault(sw.side or side, []).append(sw)
+    mine = by_side.get(side, [])
+    errors = {label: errors_by_side({side: m.sweeps, **m.other_sides}, by_side, side)
+              for label, m in models.items()}
+    note = travel_stroke_note({k: m.sweeps for k, m in models.items()}, mine)
+    result = ModelResult("test", False, mine,
+                         {"source": "K&C rig test data (kc_test)", "files": files},
+                         other_sides={k: v for k, v in by_side.items() if k != side})
     return {"test": result, **models}, errors, [note] if note else []
 
 
@@ -395,7 +406,7 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
             progress, detail, fit_cache)
     if cache is not None:
         cache.put("models", models_key, (design, static_result, models, stiffness))
-    models, errors, warnings = compare(models, test_sweeps, files)
+    models, errors, warnings = compare(models, test_sweeps, files, suspension.side)
     return KCRun(suspension, design, static_result, models, None, errors, stiffness, warnings)
 
 
