@@ -195,3 +195,56 @@ def test_steering_ratio_hand_values_and_errors():
                                                        [0.0, 1.0, 2.0]), 16.0)
     with pytest.raises(ValueError, match="monotonic"):
         ak.steering_ratio_local([0.0, 1.0, 2.0], [0.0, 1.0, 0.5], [0.0, 1.0, 0.5])
+
+
+# ------------------------------------------------------------ the ideal (100 %) partner angle
+def test_ackermann_partner_hand_calculation():
+    """Left turn, L 2700, t 1500, inner (left) wheel 30 deg: the outer wheel's spindle line
+    must cross the rear axle's line t further out, L cot(do) = L cot(30) + t = 4676.537 + 1500
+    = 6176.537 mm, do = atan(2700 / 6176.537) = 23.6120 deg."""
+    outer = float(ak.ackermann_partner_steer_deg(30.0, "left", L, T))
+    assert L / np.tan(np.radians(30.0)) + T == pytest.approx(6176.537, abs=1e-3)
+    assert outer == pytest.approx(np.degrees(np.arctan(2700.0 / 6176.5372)), abs=1e-6)
+    assert outer == pytest.approx(23.6120, abs=1e-4)
+    # the inner wheel's ideal from the outer one's: the same relation read the other way
+    assert float(ak.ackermann_partner_steer_deg(outer, "right", L, T)) == pytest.approx(30.0)
+    # a right turn, mirrored: the right wheel is inner
+    assert float(ak.ackermann_partner_steer_deg(-30.0, "right", L, T)) == pytest.approx(-outer)
+    assert float(ak.ackermann_partner_steer_deg(0.0, "left", L, T)) == 0.0
+
+
+def test_ackermann_partner_is_100_percent_by_the_other_definitions():
+    """Cross-check with percent Ackermann, the Ackermann error and ideal_pair (turn-centre
+    construction), both ways and both turn senses."""
+    for radius in (5000.0, 8000.0, 20000.0):
+        left, right = ideal_pair(radius)
+        assert float(ak.ackermann_partner_steer_deg(left, "left", L, T)) == pytest.approx(right)
+        assert float(ak.ackermann_partner_steer_deg(right, "right", L, T)) == pytest.approx(
+            left)
+    inner = np.array([5.0, 15.0, 35.0])
+    outer = ak.ackermann_partner_steer_deg(inner, "left", L, T)
+    assert np.allclose(ak.percent_ackermann(inner, outer, L, T), 100.0)
+    assert np.allclose(ak.ackermann_error_deg(inner, outer, L, T), 0.0, atol=1e-12)
+    assert np.allclose(ak.percent_ackermann(-outer, -inner, L, T), 100.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-45.0, 45.0), st.floats(1500.0, 4000.0), st.floats(1000.0, 2000.0))
+def test_ackermann_partner_round_trip(steer, wheelbase, track):
+    other = ak.ackermann_partner_steer_deg(steer, "left", wheelbase, track)
+    back = ak.ackermann_partner_steer_deg(other, "right", wheelbase, track)
+    assert float(back) == pytest.approx(steer, abs=1e-9)
+    # in the same sense; the outer wheel steers less than the inner one (turning left, + , the
+    # left wheel is the inner one)
+    assert np.sign(float(other)) == np.sign(steer)
+    if steer > 0:
+        assert abs(float(other)) <= steer * (1.0 + 1e-12)
+    else:
+        assert abs(float(other)) >= abs(steer) * (1.0 - 1e-12)
+
+
+def test_ackermann_partner_bad_input():
+    with pytest.raises(ValueError, match="side"):
+        ak.ackermann_partner_steer_deg(10.0, "front", L, T)
+    with pytest.raises(ValueError, match="wheelbase_mm"):
+        ak.ackermann_partner_steer_deg(10.0, "left", 0.0, T)

@@ -35,7 +35,11 @@ centre line, towards the inside of the turn.
   ``R``; + when the outer wheel steers more (less than 100 % Ackermann);
 - outside turn diameter ``2 sqrt((R + t/2)^2 + L^2)``: the circle the outer front contact
   point runs on (MotionView "Curb to Curb Diameter"): curb-to-curb measured at the contact
-  point (no tyre half-width), not wall-to-wall (no body overhang).
+  point (no tyre half-width), not wall-to-wall (no body overhang);
+- the ideal (100 %) Ackermann steer angle of one wheel given the other's
+  (:func:`ackermann_partner_steer_deg`): both spindle lines through one point of the rear
+  axle's line, ``cot d_right - cot d_left = t / L`` in signed angles (+ left), whichever way
+  the vehicle turns.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ import numpy as np
 
 __all__ = [
     "ackermann_angle_deg",
+    "ackermann_partner_steer_deg",
     "ackermann_error_deg",
     "outside_turn_diameter_mm",
     "percent_ackermann",
@@ -118,6 +123,24 @@ def ackermann_error_deg(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
     _, _, outer, _, _, L, t = _turn(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
     R = turn_radius_mm(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
     return np.degrees(outer - np.arctan(L / (R + t / 2.0)))
+
+
+def ackermann_partner_steer_deg(steer_deg, side: str, wheelbase_mm,
+                                track_mm) -> np.ndarray:
+    """The steer angle [deg, + left] of the OTHER wheel that makes 100 % Ackermann with
+    ``side``'s wheel at ``steer_deg``: ``cot d_right - cot d_left = t / L`` (module
+    docstring), i.e. ``tan d_right = sin d_left / (cos d_left + (t/L) sin d_left)`` from the
+    left wheel and ``tan d_left = sin d_right / (cos d_right - (t/L) sin d_right)`` from the
+    right; 0 at 0. The inner wheel's ideal from the outer's and the outer's from the inner's
+    are the same relation."""
+    if side not in ("left", "right"):
+        raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+    if not (np.all(_vec(wheelbase_mm) > 0) and np.all(_vec(track_mm) > 0)):
+        raise ValueError(f"wheelbase_mm and track_mm must be > 0, got {wheelbase_mm}, "
+                         f"{track_mm}")
+    d = np.radians(_vec(steer_deg))
+    k = (1.0 if side == "left" else -1.0) * _vec(track_mm) / _vec(wheelbase_mm)
+    return np.degrees(np.arctan2(np.sin(d), np.cos(d) + k * np.sin(d)))
 
 
 def outside_turn_diameter_mm(steer_left_deg, steer_right_deg, wheelbase_mm,

@@ -6,7 +6,9 @@ as the errors against the test take it, :mod:`elastokin.rig.comparison`: the rig
 when a sweep starts one step from zero), with each curve's static value in the legend; travel
 charts plot absolute values. Every legend entry of a model carries its RMS error against the
 test, and with test data a residual panel (model minus test, changes from the static state, at
-the test points: what the RMS is taken over) sits under the chart.
+the test points: what the RMS is taken over) sits under the chart. On an axle these charts show
+the config side's wheel; the axle's own charts are :mod:`elastokin.report.axle_charts`'s. The
+canvas, styles and file writer are :mod:`elastokin.report.chart_canvas`'s.
 """
 
 from __future__ import annotations
@@ -18,21 +20,33 @@ from pathlib import Path
 
 import numpy as np
 
+from elastokin.report.axle_charts import (
+    AXLE_CHART_LIST,
+    AxleChartInputs,
+    axle_chart_data,
+    draw_axle_chart,
+    wheel_sweeps,
+)
+from elastokin.report.chart_canvas import (
+    DPI,
+    LEGEND_FORMATS,
+    STYLE,
+    ChartCanvas,
+    footer_text,
+    legend_corner,
+    provenance_footer,
+    residual_rms,
+    save_chart,
+)
 from elastokin.rig.channels import ERROR_LIST, LOAD_CASES, channel, display_label, display_unit
 from elastokin.rig.characteristics import steer_amplitude_deg
 from elastokin.rig.comparison import residual_points, static_value
 from elastokin.rig.sweeps import Sweep, find_sweep
 
-STYLE = {
-    "test": {"color": "black", "linestyle": "-", "linewidth": 2.0},
-    "initial": {"color": "tab:blue", "linestyle": "-"},
-    "identified": {"color": "tab:red", "linestyle": "-"},
-    "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
-    "identified_kinematic": {"color": "tab:red", "linestyle": ":"},
-    "identified_stiffness": {"color": "tab:green", "linestyle": "--"},
-}
-#: number formats of the legend by unit: (static value, RMS error)
-_FMT = {"deg": (".3f", ".4f"), "mm": (".2f", ".3f"), "N": (".0f", ".1f")}
+#: what other modules take from here (the canvas's names stay importable from this module)
+__all__ = ["CHARTS", "CHART_LIST", "DPI", "ChartCanvas", "ChartData", "ChartSpec",
+           "axis_label", "chart_caption", "chart_data", "draw_chart", "kc_charts",
+           "legend_corner", "provenance_footer", "save_chart"]
 
 
 @dataclass(frozen=True)
@@ -76,107 +90,6 @@ CHART_LIST = (
               "Steer vs aligning torque"),
 )
 CHARTS = {c.name: c for c in CHART_LIST}
-
-
-#: resolution of the PNG charts: 7 in wide at 150 dpi is 1050 px, the report's full width
-DPI = 150
-#: figure size (in) and margins of each layout: one panel, or a 3:1 chart over its residual
-#: panel (fixed margins: a layout engine costs about as much as drawing the chart)
-LAYOUTS = {1: ((7.0, 5.0), {"left": 0.13, "right": 0.975, "bottom": 0.125, "top": 0.93}),
-           2: ((7.0, 6.6), {"left": 0.155, "right": 0.975, "bottom": 0.1, "top": 0.945,
-                            "hspace": 0.07, "height_ratios": (3, 1)})}
-#: x position of the y labels (axes fraction): fixed, so that stacked panels align without
-#: measuring their tick labels
-YLABEL_X = -0.115
-
-
-def footer_text(provenance: dict) -> str:
-    """The provenance line every chart carries: versions, the config (and rig) file with the
-    first 12 hex digits of its SHA-256."""
-    rig = provenance.get("rig_file")
-    rig_sha = provenance.get("rig_sha256") or ""
-    rig_txt = f"; rig {rig} ({rig_sha[:12]})" if rig else ""
-    return (f"elastokin {provenance['elastokin_version']}, Exudyn "
-            f"{provenance['exudyn_version']}; config {provenance['config_file']} "
-            f"(sha256 {provenance['config_sha256'][:12]}){rig_txt}")
-
-
-def provenance_footer(fig, provenance: dict):
-    """Write the provenance line (:func:`footer_text`) at the figure's bottom left; returns
-    the text artist."""
-    return fig.text(0.01, 0.008, footer_text(provenance), fontsize=7, color="0.3",
-                    ha="left", va="bottom")
-
-
-class ChartCanvas:
-    """The figures the charts are drawn on (matplotlib's Agg canvas, no pyplot): one per
-    layout (:data:`LAYOUTS`), created on first use and reused, a chart's artists removed
-    after it is saved; axes, ticks and fonts are made once."""
-
-    def __init__(self):
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        self._new = (Figure, FigureCanvasAgg)
-        self._layouts: dict[int, tuple] = {}
-
-    def axes(self, panels: int):
-        """(figure, chart axes, residual axes or None), emptied, for ``panels`` 1 or 2."""
-        if panels not in self._layouts:
-            Figure, FigureCanvasAgg = self._new
-            size, margins = LAYOUTS[panels]
-            fig = Figure(figsize=size, dpi=DPI)
-            FigureCanvasAgg(fig)
-            if panels == 1:
-                fig.subplots_adjust(**{k: v for k, v in margins.items()})
-                axes = (fig.add_subplot(), None)
-            else:
-                kw = dict(margins)
-                gs = fig.add_gridspec(2, 1, height_ratios=kw.pop("height_ratios"), **kw)
-                top = fig.add_subplot(gs[0])
-                axes = (top, fig.add_subplot(gs[1], sharex=top))
-                top.tick_params(labelbottom=False)
-            for ax in axes:
-                if ax is not None:
-                    ax.yaxis.set_label_coords(YLABEL_X, 0.5)
-            self._layouts[panels] = (fig, *axes, fig.text(0.01, 0.008, "", fontsize=7,
-                                                          color="0.3", ha="left",
-                                                          va="bottom"))
-        fig, ax, axr, footer = self._layouts[panels]
-        for a in (ax, axr):
-            if a is None:
-                continue
-            for artist in [*a.lines, *a.texts]:
-                artist.remove()
-            if a.get_legend() is not None:
-                a.get_legend().remove()
-            a.set_prop_cycle(None)  # colours of unstyled models from the start
-            a.set_title("")
-            a.set_xlabel("")
-            a.set_ylabel("")
-            a.relim()
-            a.autoscale(True)
-        return fig, ax, axr, footer
-
-
-def legend_corner(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int) -> str:
-    """The corner of ``ax`` whose box (about the size of a legend of ``entries`` lines) holds
-    the fewest curve points: matplotlib's ``loc="best"`` at a small part of its cost."""
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    width, height = 0.6, min(0.9, 0.06 * entries + 0.04)
-    counts = {}
-    for corner, (left, bottom) in (("upper left", (0.0, 1.0 - height)),
-                                   ("upper right", (1.0 - width, 1.0 - height)),
-                                   ("lower left", (0.0, 0.0)),
-                                   ("lower right", (1.0 - width, 0.0))):
-        n = 0
-        for xs, ys in curves:
-            u = (np.asarray(xs) - x0) / (x1 - x0 or 1.0)
-            v = (np.asarray(ys) - y0) / (y1 - y0 or 1.0)
-            n += int(np.count_nonzero((u >= left) & (u <= left + width)
-                                      & (v >= bottom) & (v <= bottom + height)))
-        counts[corner] = n
-    return min(counts, key=counts.get)  # first of the least crowded, in the order above
 
 
 def chart_caption(spec: ChartSpec, with_test: bool) -> str:
@@ -229,15 +142,12 @@ def _rms(model: str, spec: ChartSpec, points, errors: dict | None) -> float | No
             value = (errors.get(model) or {}).get(e.name)
             if value is not None:
                 return value
-    if not points:
-        return None
-    r = np.concatenate([p[2] for p in points])
-    return float(np.sqrt(np.mean(r ** 2))) if r.size else None
+    return residual_rms(points)
 
 
 def _legend(sw: Sweep, spec: ChartSpec, y0: float | None, rms: float | None) -> str:
     unit, factor = display_unit(channel(spec.y).unit)
-    f_static, f_rms = _FMT.get(unit, (".4g", ".3g"))
+    f_static, f_rms = LEGEND_FORMATS.get(unit, (".4g", ".3g"))
     bits = []
     if spec.stroke_only:
         bits.append(f"amplitude {steer_amplitude_deg(sw):.3f} deg")
@@ -315,27 +225,9 @@ def draw_chart(canvas: ChartCanvas, data: ChartData, provenance: dict):
     return fig
 
 
-def save_chart(fig, path: Path, svg: bool = False) -> list[Path]:
-    """``path`` (.png) and, with ``svg``, the same chart as .svg beside it (reproducible
-    ids, no date)."""
-    from matplotlib import rc_context
-    from PIL import Image
-
-    # the opaque chart as RGB at a fast zlib level: half the time of savefig's RGBA PNG, 10 %
-    # larger than its best compression
-    fig.canvas.draw()
-    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3]
-    Image.fromarray(np.ascontiguousarray(rgb)).save(path, compress_level=3, dpi=(DPI, DPI))
-    if not svg:
-        return [path]
-    with rc_context({"svg.hashsalt": "elastokin"}):
-        fig.savefig(path.with_suffix(".svg"), metadata={"Date": None})
-    return [path, path.with_suffix(".svg")]
-
-
-#: the charts a process draws: (chart data, file, provenance, svg); set before the worker
-#: process forks, so that the worker receives only indices
-_JOBS: list[tuple[ChartData, Path, dict, bool]] = []
+#: the charts a process draws: (draw function, chart data, file, provenance, svg); set before
+#: the worker process forks, so that the worker receives only indices
+_JOBS: list[tuple] = []
 _CANVAS: list[ChartCanvas] = []  # this process's canvas, made on first use
 
 
@@ -344,26 +236,44 @@ def _draw_jobs(indices: list[int]) -> list[list[Path]]:
         _CANVAS.append(ChartCanvas())
     out = []
     for i in indices:
-        data, path, provenance, svg = _JOBS[i]
-        out.append(save_chart(draw_chart(_CANVAS[0], data, provenance), path, svg))
+        draw, data, path, provenance, svg = _JOBS[i]
+        out.append(save_chart(draw(_CANVAS[0], data, provenance), path, svg))
     return out
 
 
-def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
-              errors: dict | None = None, svg: bool = False) -> list[Path]:
-    """Every chart of a K&C run whose load case was run (:data:`CHART_LIST`), each overlaying
-    all models, as PNG (and SVG with ``svg``); ``errors``: summary.json's ``errors`` (model ->
-    metric -> RMS), for the legends of the Fig. 9 charts (other RMS errors are computed from
-    the sweeps, the same way). Where the platform forks (Linux) and has two cores, a forked
-    process draws every other chart while this one draws the rest. Returns the files
-    written, in chart order."""
+def chart_jobs(sweeps: list[Sweep], out_dir: Path, provenance: dict, errors: dict | None,
+               svg: bool, axle: AxleChartInputs | None) -> list[tuple]:
+    """(draw function, chart data, file, provenance, svg) of every chart the sweeps have
+    data for: the corner's (:data:`CHART_LIST`; on an axle the config side's wheel), then
+    with ``axle`` the axle's (:data:`~elastokin.report.axle_charts.AXLE_CHART_LIST`)."""
     jobs = []
     for spec in CHART_LIST:
-        chosen = [sw for sw in sweeps if sw.load_case == spec.load_case
-                  and spec.x in sw.columns and spec.y in sw.columns]
+        chosen = [sw for sw in sweeps if spec.x in sw.columns and spec.y in sw.columns]
+        chosen = (wheel_sweeps(chosen, spec.load_case, axle.config_side, axle.config_side)
+                  if axle is not None else
+                  [sw for sw in chosen if sw.load_case == spec.load_case])
         if chosen:
-            jobs.append((chart_data(spec, chosen, errors), out_dir / f"{spec.name}.png",
-                         provenance, svg))
+            jobs.append((draw_chart, chart_data(spec, chosen, errors),
+                         out_dir / f"{spec.name}.png", provenance, svg))
+    for spec in AXLE_CHART_LIST if axle is not None else ():
+        data = axle_chart_data(spec, sweeps, axle)
+        if data is not None:
+            jobs.append((draw_axle_chart, data, out_dir / f"{spec.name}.png", provenance,
+                         svg))
+    return jobs
+
+
+def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
+              errors: dict | None = None, svg: bool = False,
+              axle: AxleChartInputs | None = None) -> list[Path]:
+    """Every chart of a K&C run whose load case was run (:data:`CHART_LIST`; with ``axle``,
+    :func:`~elastokin.report.axle_charts.axle_chart_inputs`, the config side's wheel and the
+    axle's charts too), each overlaying all models, as PNG (and SVG with ``svg``);
+    ``errors``: summary.json's ``errors`` (model -> metric -> RMS), for the legends of the
+    Fig. 9 charts (other RMS errors are computed from the sweeps, the same way). Where the
+    platform forks (Linux) and has two cores, a forked process draws every other chart while
+    this one draws the rest. Returns the files written, in chart order."""
+    jobs = chart_jobs(sweeps, out_dir, provenance, errors, svg, axle)
     _JOBS[:] = jobs
     try:
         mine, theirs = list(range(0, len(jobs), 2)), list(range(1, len(jobs), 2))

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.report.charts import DPI, provenance_footer
+from elastokin.report.chart_canvas import DPI, provenance_footer
 from elastokin.rig.channels import CHARACTERISTICS
 
 #: the lines over a histogram: statistic -> (legend label, style)

@@ -18,7 +18,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elastokin.config.frozen import plain_data, thaw
+from elastokin.physics.axle_sweeps import track_mm
 from elastokin.report.text import identification_table
+from elastokin.rig.axle_channels import iso_rotation
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
@@ -114,9 +116,27 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         "reused_from_cache": run.reused,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
+        **({"axle": axle_data(s)} if s.axle is not None else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
     }
+
+
+def axle_data(s) -> dict:
+    """summary.json ``axle``: the axle's make-up and vehicle data (the figures are per model,
+    ``models.<label>.axle``): its sides (the config's first), the design track at the contact
+    points [mm], shared parts, steering and anti-roll bar present, and the config's
+    ``axle.vehicle`` (None without)."""
+    T = iso_rotation(s)
+    patch = {side: T @ s.wheels[side].contact_patch_mm for side in ("left", "right")}
+    v = s.axle.vehicle
+    return {"sides": list(s.axle.sides), "config_side": s.side,
+            "track_mm": float(track_mm(patch["left"], patch["right"])),
+            "shared_parts": list(s.axle.shared),
+            "steering": s.axle.steering is not None,
+            "anti_roll_bar": s.axle.anti_roll_bar is not None,
+            "vehicle": v.model_dump() if v is not None else None,
+            "wheelbase_mm": v.wheelbase_mm if v is not None else None}
 
 
 def _sha256(path: str) -> str | None:
@@ -222,6 +242,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
     (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
     Returns the summary."""
+    from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
 
@@ -236,9 +257,10 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
         files += ["identification.json", "identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
-    charts = kc_charts(sweeps, folder, prov, run.errors, svg)
+    summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary))
     files += [p.name for p in charts] + ["report.html"]
-    summary = summary_dict(run, files)
+    summary["files"] = files
     write_summary(folder / "summary.json", summary)
     write_report(folder / "report.html", summary, charts, ident)
     return summary

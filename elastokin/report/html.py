@@ -11,11 +11,12 @@ Everything comes from ``summary.json``'s content and, with CMM measurements, fro
 
 from __future__ import annotations
 
-import base64
-import html
 from pathlib import Path
 
+from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
+from elastokin.report.html_axle import axle_section
+from elastokin.report.html_parts import esc, figure, note, num, table
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
 
 #: the sections of the report, in order: (id, heading); a section without data is left out
@@ -26,6 +27,7 @@ SECTIONS = (
     ("static", "Static state"),
     ("characteristics", "K&C characteristics"),
     ("charts", "Charts"),
+    ("axle", "Axle"),
     ("errors", "Errors against the test"),
     ("stiffness", "Bushing-stiffness identification"),
     ("signs", "Sign conventions"),
@@ -74,39 +76,9 @@ document.addEventListener('keydown',function(e){if(e.key==='Escape'){box.hidden=
 })();</script>"""
 
 
-def esc(text) -> str:
-    return html.escape(str(text))
-
-
-def num(value, fmt: str) -> str:
-    """A number in ``fmt``, or an en dash for none."""
-    return "&ndash;" if value is None else format(value, fmt)
-
-
-def table(header: list[str] | None, rows: list[list[str]], classes: list[str] | None = None,
-          text_columns: tuple[int, ...] = ()) -> str:
-    """An HTML table (``header`` None: none); cells are HTML already; ``classes``: a class per
-    row (e.g. ``flag``); ``text_columns``: left-aligned columns."""
-    def cell(tag: str, i: int, c: str) -> str:
-        cls = ' class="text"' if i in text_columns else ""
-        return f"<{tag}{cls}>{c}</{tag}>"
-
-    head = "".join(cell("th", i, esc(h)) for i, h in enumerate(header or []))
-    body = [f"<tr>{head}</tr>"] if header else []
-    for k, r in enumerate(rows):
-        cls = f' class="{classes[k]}"' if classes and classes[k] else ""
-        body.append(f"<tr{cls}>" + "".join(cell("td", i, c) for i, c in enumerate(r))
-                    + "</tr>")
-    return f"<table>{''.join(body)}</table>"
-
-
 def section(key: str, number: int, body: list[str]) -> str:
     return (f'<section id="{key}"><h2>{number}. {esc(HEADINGS[key])}</h2>'
             + "".join(body) + "</section>")
-
-
-def note(text: str) -> str:
-    return f'<p class="note">{text}</p>'
 
 
 # ------------------------------------------------------------------------------ sections
@@ -263,21 +235,18 @@ def characteristics_section(summary: dict) -> list[str]:
                  "figures at the static state."), table(["characteristic", *models], rows)]
 
 
-def _image(path: Path) -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    spec = CHARTS.get(path.stem)
-    title = spec.title if spec is not None else path.stem
-    return f'<img alt="{esc(title)}" src="data:image/png;base64,{data}" width="1050">'
-
-
-def charts_section(charts: list[Path], with_test: bool) -> list[str]:
-    out = [note("Click a chart to enlarge it (Escape or a click closes it).")]
+def charts_section(charts: list[Path], with_test: bool, axle_side: str | None = None
+                   ) -> list[str]:
+    """The corner's charts (on an axle: the config side's wheel ``axle_side``), each with its
+    caption."""
+    wheel = (f" On this axle they show the config's ({esc(axle_side)}) wheel; both wheels "
+             'and the axle\'s own charts are in the <a href="#axle">Axle</a> section.'
+             if axle_side else "")
+    out = [note("Click a chart to enlarge it (Escape or a click closes it)." + wheel)]
     for k, path in enumerate(p for p in charts if p.suffix == ".png"):
         spec = CHARTS.get(path.stem)
-        caption = (chart_caption(spec, with_test) if spec is not None else "")
-        out.append(f'<figure id="chart-{esc(path.stem)}">{_image(path)}<figcaption><b>Chart '
-                   f"{k + 1}.</b> {esc(caption)} <span class=\"note\">(file "
-                   f"<code>{esc(path.name)}</code>)</span></figcaption></figure>")
+        out.append(figure(path, spec.title if spec is not None else path.stem, k + 1,
+                          chart_caption(spec, with_test) if spec is not None else ""))
     return out
 
 
@@ -367,13 +336,20 @@ def report_sections(summary: dict, charts: list[Path],
                     identification: dict | None = None) -> list[tuple[str, list[str]]]:
     """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
     with_test = "test" in summary["models"]
+    axle_charts = [p for p in charts if p.stem in AXLE_CHARTS]
+    charts = [p for p in charts if p.stem not in AXLE_CHARTS]
+    first = 1 + sum(p.suffix == ".png" for p in charts)
     parts = {"summary": summary_section(summary),
              "warnings": warnings_section(summary) if summary.get("warnings") else None,
              "identification": (identification_section(identification)
                                 if identification else None),
              "static": static_section(summary),
              "characteristics": characteristics_section(summary),
-             "charts": charts_section(charts, with_test) if charts else None,
+             "charts": (charts_section(charts, with_test,
+                                       (summary.get("axle") or {}).get("config_side"))
+                        if charts else None),
+             "axle": (axle_section(summary, axle_charts, first) if summary.get("axle")
+                      else None),
              "errors": errors_section(summary) if summary.get("errors") else None,
              "stiffness": (stiffness_section(summary["stiffness_identification"])
                            if summary.get("stiffness_identification") else None),
