@@ -246,14 +246,16 @@ def test_axle_section_of_the_case_study(page, results):
     identified = summary["models"]["identified"]["axle"]
     assert rows["roll centre height (force-based) [mm]"][1] == (
         f"{identified['roll_centre_height_force_based_mm']:.1f}")
-    # the per-wheel table: the test has the config (left) side's wheel only
+    # the per-wheel table: the test has both wheels (the synthetic real axle's)
     start = next(k for k, c in enumerate(page.cells) if c[:2] == ["characteristic",
                                                                   "test left"])
     wheel = {c[0]: c[1:] for c in page.cells[start + 1:start + 1 + len(CHARACTERISTIC_LIST)]}
     test_left = summary["models"]["test"]["steer_amplitude_deg"]
     initial = summary["models"]["initial"]
     assert wheel["steer amplitude over the travel stroke [deg]"] == [
-        f"{test_left:.4f}", "\u2013", f"{initial['steer_amplitude_deg']:.4f}",
+        f"{test_left:.4f}",
+        f"{summary['models']['test']['right']['steer_amplitude_deg']:.4f}",
+        f"{initial['steer_amplitude_deg']:.4f}",
         f"{initial['right']['steer_amplitude_deg']:.4f}",
         *(f"{w['steer_amplitude_deg']:.4f}" for w in (summary["models"]["identified"],
                                                       summary["models"]["identified"]["right"]))]

@@ -17,6 +17,7 @@ from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
 from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
 
 #: the sections of the report, in order: (id, heading); a section without data is left out
@@ -213,15 +214,20 @@ def static_section(summary: dict) -> list[str]:
         ["spring force [N] (+ compression)", springs or "&ndash;"],
         ["force residual on the wheel assembly [N]",
          f"{st['wheel_assembly_force_residual_N']:.1e}"]], text_columns=(1,))]
-    rows = [[esc(n), f"{b['radial_mm']:.3f}", f"{b['axial_mm']:.3f}", f"{b['torsion_deg']:.4f}",
-             esc(", ".join(f"{k} {v:g}" for k, v in b.get("reference", {}).items()))]
+    refs = any(b.get("reference") for b in st["bushings"].values())
+    rows = [[esc(n), fixed(b["radial_mm"], 3), fixed(b["axial_mm"], 3),
+             fixed(b["torsion_deg"], 4)]
+            + ([esc(", ".join(f"{k} {v:g}" for k, v in b.get("reference", {}).items()))]
+               if refs else [])
             for n, b in st["bushings"].items()]
     if rows:
+        source = st.get("reference_source") if refs else None
         out += ["<h3>Bushing deflections</h3>",
-                note("Part 2 relative to part 1, bushing frame, the design preload included; "
-                     f"reference: {esc(st.get('reference_source', ''))}."),
-                table(["bushing", "radial mm", "axial mm", "torsion deg", "reference"], rows,
-                      text_columns=(4,))]
+                note("Part 2 relative to part 1, bushing frame, the design preload included"
+                     + (f"; reference: {esc(source)}." if source else ".")),
+                table(["bushing", "radial mm", "axial mm", "torsion deg"]
+                      + (["reference"] if refs else []), rows,
+                      text_columns=(4,) if refs else ())]
     return out
 
 
