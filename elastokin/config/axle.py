@@ -97,6 +97,10 @@ def check_shared(s, spec: AxleSpec, fail) -> None:
             raise fail(f"axle.shared[{i}]", f"no part '{name}' (parts: {', '.join(s.parts)})")
         if name == s.wheel.part:
             raise fail(f"axle.shared[{i}]", f"'{name}' carries the wheel: a corner part")
+    for i, name in enumerate(spec.shared):
+        if name in spec.shared[:i]:
+            raise fail(f"axle.shared[{i}]", f"'{name}' is listed twice (a shared part is "
+                       "declared once)")
     once = _declared_once(s, spec)
     for name in spec.other_side.hardpoints:
         key = f"axle.other_side.hardpoints.{name}"
@@ -115,6 +119,32 @@ def check_shared(s, spec: AxleSpec, fail) -> None:
         if name in {c for c, _ in once}:
             raise fail(f"axle.other_side.connections.{name}", f"bushing '{name}' joins shared "
                        "parts or the ground: it is declared once for both sides")
+
+
+def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
+    """No corner name is the name the axle gives to another item's copy on the other side
+    (``front_arm`` and ``front_arm_right``): a part named as a shared part's other-side copy
+    declares a shared part on both sides; any other such name would be taken twice."""
+    shared = set(spec.shared)
+    parts = set(s.parts) - {s.ground}
+    for name in sorted(parts):
+        base = name.removesuffix(suffix)
+        if base == name or base not in parts:
+            continue
+        if base in shared:
+            raise fail(f"parts.{name}", f"'{name}' is the other side's '{base}', a shared "
+                       f"part (axle.shared): a shared part is declared once for both sides; "
+                       f"remove '{name}' and attach the connections to '{base}'")
+        raise fail(f"parts.{name}", f"'{name}' is the name of the mirrored copy of part "
+                   f"'{base}' on the {name[-len(suffix) + 1:]} side; rename it")
+    for section in ("connections", "springs", "stops"):
+        items = s.raw.get(section) or {}
+        for name in sorted(items):
+            base = name.removesuffix(suffix)
+            if base != name and base in items and \
+                    not declared_once(tuple(items[base]["parts"]), shared, s.ground):
+                raise fail(f"{section}.{name}", f"'{name}' is the name of the mirrored copy "
+                           f"of '{base}' on the {name[-len(suffix) + 1:]} side; rename it")
 
 
 def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:

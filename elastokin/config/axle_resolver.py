@@ -14,6 +14,7 @@ import numpy as np
 from elastokin.config.axle import (
     MIRROR,
     check_mirror_plane,
+    check_names,
     check_shared,
     declared_once,
     mirrored_bushing,
@@ -86,6 +87,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     suspension, with the steering and the anti-roll bar (module docstring)."""
     spec = resolver.spec.axle
     check_shared(corner, spec, resolver.fail)
+    check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
@@ -149,6 +151,7 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
             part == corner.wheel.part:
         raise resolver.fail(key + ".part", f"'{part}' must be this corner's half of the bar "
                             "(a moving part, not shared, not the wheel's)")
+    check_drop_link(corner, part, resolver.spec.axle.shared, resolver.fail)
     pos = resolver.point(a.point, key + ".point")
     if abs(pos[1]) > 1e-3:
         raise resolver.fail(key + ".point", f"the bar's torsion spring joins the halves on "
@@ -163,3 +166,32 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
         except ValueError as exc:
             raise resolver.fail(key + ".curve", str(exc)) from None
     return AntiRollBar((part, part + suffix), pos, resolver.frame_from_z(axis), law)
+
+
+def wheel_side_parts(corner: Suspension, shared, without: str) -> set[str]:
+    """The corner's parts joined to its wheel part through moving, unshared parts (not
+    through ``without``, the ground or a shared part): the parts that move with the wheel."""
+    fixed = set(shared) | {corner.ground, without}
+    pairs = [c.parts for c in corner.joints + corner.links + corner.bushings]
+    pairs += [sp.parts for sp in corner.springs]
+    reached, grown = {corner.wheel.part}, True
+    while grown:
+        new = {q for a, b in pairs for p, q in ((a, b), (b, a))
+               if p in reached and q not in fixed}
+        grown = bool(new - reached)
+        reached |= new
+    return reached
+
+
+def check_drop_link(corner: Suspension, part: str, shared, fail) -> None:
+    """The anti-roll bar's half ``part`` reaches the wheel: a drop link (or a joint or
+    bushing) joins it to a part that moves with the wheel (:func:`wheel_side_parts`)."""
+    wheel_side = wheel_side_parts(corner, shared, part)
+    links = [(c.name, set(c.parts) - {part}) for c in corner.joints + corner.links
+             + corner.bushings if part in c.parts]
+    if any(others & wheel_side for _, others in links):
+        return
+    found = ", ".join(f"'{n}' to {'/'.join(sorted(o)) or part}" for n, o in links) or "none"
+    raise fail("axle.anti_roll_bar.part", f"the bar half '{part}' has no drop link to a part "
+               f"that moves with the wheel ({', '.join(sorted(wheel_side))}); its "
+               f"connections: {found}; add a link from '{part}' to one of them")

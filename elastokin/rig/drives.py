@@ -132,21 +132,38 @@ def roll_drive(suspension: Suspension, spec: RollSpec) -> Drive:
                  heave_load_N=np.full(n, 2.0 * s.design.wheel_load_N))
 
 
+def steering_wheel_room_deg(steering) -> float:
+    """The steering-wheel angle (deg) the steering sweep may reach each way: the rack moves
+    from its held travel by the ratio's travel either way (the pinion's sense is probed
+    later), so ``|travel_mm| + |rack travel|`` must stay within ``limit_mm``."""
+    room = steering.limit_mm - abs(steering.travel_mm)
+    if not room > 0:
+        return 0.0
+    return float(min(abs(steering.ratio.deflection_at(room)),
+                     abs(steering.ratio.deflection_at(-room))))
+
+
 def steering_drive(suspension: Suspension, spec: SteeringSweepSpec) -> Drive:
     """Steering: the steering wheel turned 0 -> +A -> -A -> 0 (deg; A: ``amplitude_deg`` or
-    lock to lock), the rack following through the ratio, every wheel at the design load
-    (force control)."""
+    lock to lock: the rack at its travel limit, :func:`steering_wheel_room_deg`), the rack
+    following from its held travel through the ratio, every wheel at the design load (force
+    control)."""
     s = _axle(suspension, "steering")
     st = s.axle.steering
     if st is None:
         raise ConfigError(f"{s.source}: key 'rig.steering': the axle has no steering "
                           "(axle.steering); leave the load case out (steering: null)")
-    limit = st.steering_wheel_limit_deg()
+    limit = steering_wheel_room_deg(st)
+    held = f", the rack held at {st.travel_mm:g} mm" if st.travel_mm else ""
+    if not limit > 0:
+        raise ConfigError(f"{s.source}: key 'rig.steering': the rack is held at its travel "
+                          f"limit ({st.travel_mm:g} mm, axle.steering.limit_mm "
+                          f"{st.limit_mm:g} mm): no room to steer")
     amplitude = spec.amplitude_deg if spec.amplitude_deg is not None else limit
     if amplitude > limit * (1.0 + 1e-9):
         raise ConfigError(f"{s.source}: key 'rig.steering.amplitude_deg': {amplitude:g} deg "
                           f"takes the rack beyond its travel limit (axle.steering.limit_mm "
-                          f"{st.limit_mm:g} mm: {limit:.4g} deg of steering wheel)")
+                          f"{st.limit_mm:g} mm{held}: {limit:.4g} deg of steering wheel)")
     swa, branch = sweep_path(amplitude, spec.step_deg)
     rack = st.travel_mm + st.rack_travel_mm(swa)
     return Drive("steering", "steering_wheel_angle_deg", swa, branch, _wheels(s, swa.size),

@@ -1,0 +1,110 @@
+"""Per-point cost of an axle's load cases against its corner's (issue 18, "Measures").
+
+For each suspension, in one run on this machine: the axle (both wheels, the config as it is)
+and its corner (the config side alone, :func:`elastokin.config.variants.corner`: the config
+without its ``axle`` section), each built once; then every load case both run (parallel
+travel, vertical force, and the in-phase force cases) timed on both, and the axle's own cases
+(opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle.
+A load case's time is that of :func:`elastokin.rig.load_cases.run_drive_sides` (the solve
+of every step, as one ``SolveStatic``, and every channel of both wheels), best of
+``--repeat``; per point = time / the drive's steps. The ratio axle / corner is per point of
+the same load case. Suspensions: the shipped double wishbone axle
+(configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
+(configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
+
+Prints the figures and writes them to ``benchmarks/results/bench_axle.json``, with the
+machine's load average before and after. No target: the measure the issue asks for.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+import warnings
+from pathlib import Path
+
+from elastokin.config.loading import load_suspension
+from elastokin.config.variants import corner
+from elastokin.mbs.design import build_model
+from elastokin.mbs.model import EXUDYN_VERSION
+from elastokin.rig.drives import drives
+from elastokin.rig.load_cases import run_drive_sides
+from elastokin.version import __version__
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
+           "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
+
+
+def best_of(fn, repeat: int) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
+    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s``."""
+    t0 = time.perf_counter()
+    model = build_model(s)
+    build = time.perf_counter() - t0
+    out = {}
+    for d in drives(s, kinematic=s.kinematic):
+        run_drive_sides(model, "bench", d)  # first run: paths and sensors set up
+        t = best_of(lambda d=d: run_drive_sides(model, "bench", d), repeat)
+        n = int(d.inputs.size)
+        out[d.load_case] = {"points": n, "total_ms": 1e3 * t, "ms_per_point": 1e3 * t / n}
+    return build, out
+
+
+def compare(path: Path, repeat: int) -> dict:
+    axle = load_suspension(path)
+    alone = corner(axle)
+    build_axle, times_axle = load_case_times(axle, repeat)
+    build_corner, times_corner = load_case_times(alone, repeat)
+    ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
+              for case, c in times_corner.items() if case in times_axle}
+    return {"config": str(path.relative_to(ROOT)), "config_sha256": axle.sha256,
+            "build_s": {"axle": build_axle, "corner": build_corner},
+            "axle": times_axle, "corner": times_corner,
+            "ratio_axle_to_corner_per_point": ratios}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_axle.json"))
+    args = ap.parse_args()
+    load_before = os.getloadavg()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
+        figures = {name: compare(path, args.repeat) for name, path in CONFIGS.items()}
+    result = {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
+              "machine": {"python": platform.python_version(),
+                          "processor": platform.machine(), "cpus": os.cpu_count()},
+              "repeat": args.repeat, "load_average_before": load_before,
+              "load_average_after": os.getloadavg(), "suspensions": figures}
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
+          f"{load_before[2]:.2f}, after {result['load_average_after'][0]:.2f}")
+    for name, f in figures.items():
+        print(f"\n{name} ({f['config']}): build axle {f['build_s']['axle']:.2f} s, corner "
+              f"{f['build_s']['corner']:.2f} s")
+        print(f"  {'load case':<28}{'points':>7}{'axle ms/pt':>12}{'corner ms/pt':>14}"
+              f"{'ratio':>8}")
+        for case, a in f["axle"].items():
+            c = f["corner"].get(case)
+            corner_ms = f"{c['ms_per_point']:14.3f}" if c else f"{'-':>14}"
+            ratio = f"{f['ratio_axle_to_corner_per_point'][case]:8.2f}" if c else f"{'-':>8}"
+            print(f"  {case:<28}{a['points']:7d}{a['ms_per_point']:12.3f}{corner_ms}{ratio}")
+    print(f"\nwritten to {args.out}")
+
+
+if __name__ == "__main__":
+    main()
