@@ -44,34 +44,40 @@ def percent_anti(d: dict, reference: str, fraction: float, position: str) -> flo
     return 100.0 * fraction * tan_theta * VEHICLE["wheelbase_mm"] / VEHICLE["cg_height_mm"]
 
 
-def summary(position: str, brakes: str) -> tuple[dict, dict]:
+def summary(position: str, brakes: str, drive: str = "outboard") -> tuple[dict, dict]:
     d = config("leading_arm_axle.yaml")
     d["rig"]["opposite_travel"] = None
-    d["axle"] = {"vehicle": {**VEHICLE, "position": position, "brakes": brakes}}
+    d["axle"] = {"vehicle": {**VEHICLE, "position": position, "brakes": brakes,
+                             "drive": drive}}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the arm has no steering axis
         result = load_cases(ModelVariant("m", suspension(d, "leading_arm_axle.yaml")))
     return d, result.summary()["axle"]
 
 
-@pytest.mark.parametrize("brakes", ["outboard", "inboard"])
-def test_front_anti_dive_and_anti_lift(brakes):
-    d, ax = summary("front", brakes)
+@pytest.mark.parametrize("brakes, drive", [("outboard", "outboard"), ("inboard", "inboard")])
+def test_front_anti_dive_and_anti_lift(brakes, drive):
+    """Brakes and drive torque reacted by the wheel carrier (outboard: the force acts at the
+    contact patch) or by the body (inboard: at the wheel centre)."""
+    d, ax = summary("front", brakes, drive)
     braking = "contact" if brakes == "outboard" else "centre"
     anti_dive = percent_anti(d, braking, VEHICLE["brake_fraction"], "front")
     assert anti_dive == pytest.approx(81.0 if brakes == "outboard" else -162.0)
     assert ax["percent_anti_dive"] == pytest.approx(anti_dive, rel=1e-4)
-    lift = percent_anti(d, "contact", VEHICLE["drive_fraction"], "front")
+    traction = "contact" if drive == "outboard" else "centre"
+    lift = percent_anti(d, traction, VEHICLE["drive_fraction"], "front")
     assert ax["percent_anti_lift_traction"] == pytest.approx(lift, rel=1e-4)
     assert ax["percent_anti_squat"] is None and ax["percent_anti_lift_braking"] is None
 
 
 def test_rear_anti_lift_and_anti_squat():
     """The same arm as a rear axle: its instant centre behind the wheel now lies away from
-    the centre of gravity (negative anti)."""
-    d, ax = summary("rear", "outboard")
+    the centre of gravity (negative anti-lift at the contact patch); the drive torque reacted
+    by the body (inboard) puts the tractive force at the wheel centre, below the instant
+    centre's line from the contact patch (positive anti-squat)."""
+    d, ax = summary("rear", "outboard", "inboard")
     lift = percent_anti(d, "contact", VEHICLE["brake_fraction"], "rear")
-    squat = percent_anti(d, "contact", VEHICLE["drive_fraction"], "rear")
-    assert lift < 0 and squat < 0
+    squat = percent_anti(d, "centre", VEHICLE["drive_fraction"], "rear")
+    assert lift < 0 < squat
     assert ax["percent_anti_lift_braking"] == pytest.approx(lift, rel=1e-4)
     assert ax["percent_anti_squat"] == pytest.approx(squat, rel=1e-4)
