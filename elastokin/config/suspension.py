@@ -200,11 +200,6 @@ class Steering(ReadOnlyArrays):
         """Rack travel (mm) for steering-wheel angles (deg)."""
         return np.asarray(self.ratio(np.asarray(steering_wheel_deg, float)), float)
 
-    def steering_wheel_limit_deg(self) -> float:
-        """The steering-wheel angle at the rack's travel limit (the smaller side)."""
-        return float(min(abs(self.ratio.deflection_at(self.limit_mm)),
-                         abs(self.ratio.deflection_at(-self.limit_mm))))
-
 
 @dataclass(frozen=True)
 class AntiRollBar(ReadOnlyArrays):
