@@ -26,8 +26,10 @@ LEGEND_FORMATS = {"deg": (".3f", ".4f"), "mm": (".2f", ".3f"), "N": (".0f", ".1f
 DPI = 150
 #: figure size (in) and margins of each layout: one panel (1), a 3:1 chart over its residual
 #: panel (2), or a left and a right wheel's panels side by side sharing the y axis ("pair"),
-#: under a figure title (fixed margins: a layout engine costs about as much as drawing the chart)
-LAYOUTS = {1: ((7.0, 5.0), {"left": 0.13, "right": 0.975, "bottom": 0.125, "top": 0.93}),
+#: under a figure title (fixed margins: a layout engine costs about as much as drawing the chart;
+#: one panel is as tall as the two-panel chart's upper one, so that the longest two-line y
+#: label fits)
+LAYOUTS = {1: ((7.0, 5.6), {"left": 0.155, "right": 0.975, "bottom": 0.11, "top": 0.94}),
            2: ((7.0, 6.6), {"left": 0.155, "right": 0.975, "bottom": 0.1, "top": 0.945,
                             "hspace": 0.07, "height_ratios": (3, 1)}),
            "pair": ((7.0, 5.0), {"left": 0.115, "right": 0.98, "bottom": 0.125, "top": 0.875,
