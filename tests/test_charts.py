@@ -160,3 +160,36 @@ def test_legend_goes_to_the_emptiest_corner():
     assert legend_corner(Axes(), [falling], 4) == "upper right"
     high = (np.linspace(0, 1, 50), np.full(50, 0.95))
     assert legend_corner(Axes(), [high], 4) == "lower left"
+
+
+@pytest.mark.parametrize("with_test", [False, True])
+@pytest.mark.parametrize("name", list(CHARTS))
+def test_every_label_lies_inside_the_figure(name, with_test):
+    """The layouts have fixed margins: every text of every chart (title, axis labels, tick
+    labels, legend, footer) must lie inside the figure, in the one-panel layout (no test
+    data) and over the residual panel (with test data). Values of a realistic size."""
+    spec = CHARTS[name]
+    x, br = _force_path(2000.0, 50.0)
+    if spec.stroke_only:  # rebound to bump, then back
+        br = np.where(br == "fall", "stroke", "return")
+    rng = np.random.default_rng(1)
+
+    def sweep(model, slope):
+        y = -12345.6 + slope * x + 0.01 * rng.standard_normal(x.size)
+        return _sweep(model, spec.load_case, spec.x, x, br, **{spec.y: y})
+
+    sweeps = [sweep("identified_stiffness", 1.5), sweep("initial", 1.2)]
+    if with_test:
+        sweeps.insert(0, sweep("test", 1.4))
+    fig = draw_chart(ChartCanvas(), chart_data(spec, sweeps), PROV)
+    fig.canvas.draw()  # places the axis labels beside their tick labels
+    renderer = fig.canvas.get_renderer()
+    # an axes' tight box holds its title, axis labels, drawn tick labels and legend
+    boxes = [(f"axes {k}", ax.get_tightbbox(renderer)) for k, ax in enumerate(fig.axes)]
+    boxes += [(repr(t.get_text()), t.get_window_extent(renderer)) for t in fig.texts
+              if t.get_text()]
+    assert any(ax.get_title() == spec.title for ax in fig.axes)
+    for what, box in boxes:
+        assert (box.x0 >= -0.5 and box.x1 <= fig.bbox.x1 + 0.5
+                and box.y0 >= -0.5 and box.y1 <= fig.bbox.y1 + 0.5), \
+            f"{name}: {what} outside the figure ({box.bounds} of {fig.bbox.bounds})"
