@@ -23,6 +23,8 @@ from elastokin.report.charts import CHARTS, chart_data, chart_jobs, draw_chart, 
 from elastokin.rig.comparison import curve_error_rms
 from elastokin.rig.sweeps import Sweep
 
+from .figure_checks import texts_outside_the_figure
+
 PROV = {"elastokin_version": "0", "exudyn_version": "0", "config_file": "c.yaml",
         "config_sha256": "0" * 64}
 L_MM, T_MM = 2700.0, 1500.0
@@ -227,3 +229,9 @@ def test_a_reused_canvas_draws_the_pair_as_a_new_one(sweeps, tmp_path):
     assert np.array_equal(_pixels(tmp_path / "a.png"), _pixels(tmp_path / "d.png"))
     assert np.array_equal(_pixels(tmp_path / "c.png"), _pixels(tmp_path / "c_new.png"))
     assert _pixels(tmp_path / "a.png").shape == (750, 1050, 3)  # 7 x 5 in at 150 dpi
+
+
+@pytest.mark.parametrize("name", [s.name for s in AXLE_CHART_LIST])
+def test_every_label_of_an_axle_chart_lies_inside_the_figure(sweeps, name):
+    data = axle_chart_data(AXLE_CHARTS[name], sweeps, INPUTS)
+    assert texts_outside_the_figure(draw_axle_chart(ChartCanvas(), data, PROV)) == []

@@ -19,6 +19,8 @@ from elastokin.report.charts import (
 from elastokin.rig.comparison import curve_error_rms, static_value
 from elastokin.rig.sweeps import Sweep
 
+from .figure_checks import texts_outside_the_figure
+
 PROV = {"elastokin_version": "0", "exudyn_version": "0", "config_file": "c.yaml",
         "config_sha256": "0" * 64}
 
@@ -182,14 +184,5 @@ def test_every_label_lies_inside_the_figure(name, with_test):
     if with_test:
         sweeps.insert(0, sweep("test", 1.4))
     fig = draw_chart(ChartCanvas(), chart_data(spec, sweeps), PROV)
-    fig.canvas.draw()  # places the axis labels beside their tick labels
-    renderer = fig.canvas.get_renderer()
-    # an axes' tight box holds its title, axis labels, drawn tick labels and legend
-    boxes = [(f"axes {k}", ax.get_tightbbox(renderer)) for k, ax in enumerate(fig.axes)]
-    boxes += [(repr(t.get_text()), t.get_window_extent(renderer)) for t in fig.texts
-              if t.get_text()]
     assert any(ax.get_title() == spec.title for ax in fig.axes)
-    for what, box in boxes:
-        assert (box.x0 >= -0.5 and box.x1 <= fig.bbox.x1 + 0.5
-                and box.y0 >= -0.5 and box.y1 <= fig.bbox.y1 + 0.5), \
-            f"{name}: {what} outside the figure ({box.bounds} of {fig.bbox.bounds})"
+    assert texts_outside_the_figure(fig) == [], name
