@@ -30,31 +30,12 @@ from elastokin.synthetic.real_suspension import (
 from elastokin.synthetic.virtual_cmm import clearance_shifts
 
 from .conftest import CASE, ROOT
+from .kc_files import fails, put, sweep
 
 KC_TEST = CASE.parent / "pseudo_mcpherson_kc_test"
 ONE_WHEEL = ROOT / "tests" / "data" / "kc_test_one_wheel"  # the shipped files before axles
 
 
-def sweep(peak: float, n: int = 6) -> np.ndarray:
-    """0 -> +peak -> -peak -> 0 (3 branches)."""
-    return np.r_[np.linspace(0, peak, n + 1), np.linspace(peak, -peak, 2 * n + 1)[1:],
-                 np.linspace(-peak, 0, n + 1)[1:]]
-
-
-def put(tmp_path, name: str, text: str):
-    p = tmp_path / name
-    p.write_text(text, encoding="utf-8")
-    return p
-
-
-def fails(path, *fragments):
-    with pytest.raises(MeasurementError) as err:
-        read_kc_test(path)
-    msg = str(err.value)
-    assert str(path) in msg and "\n" not in msg
-    for f in fragments:
-        assert f in msg, (f, msg)
-    return msg
 
 
 # ---------------------------------------------------------------------------- round trips
@@ -65,7 +46,7 @@ def test_every_load_case_round_trips_with_both_wheels(tmp_path, case):
     """Every load case, corner and axle: both wheels' channels (per-wheel input given per
     wheel, per-axle input once) written and read back, each wheel's own values, same bytes."""
     spec = LOAD_CASES[case]
-    x = np.linspace(0.0, 1.0, 11) if case == "static_load" else sweep(90.0)
+    x = np.linspace(0.0, 1.0, 11) if case == "static_load" else sweep(90.0, 6)
     per_axle = CHANNELS[spec.input].per_axle
     channels = {spec.input: x} if per_axle else {f"{spec.input}_left": x,
                                                   f"{spec.input}_right": -0.5 * x}
@@ -159,7 +140,7 @@ def test_a_held_wheel_cannot_be_the_input(tmp_path):
 
 
 def test_writer_refuses_what_the_reader_refuses(tmp_path):
-    x = sweep(90.0)
+    x = sweep(90.0, 6)
     p = tmp_path / "parallel_travel.csv"
     with pytest.raises(MeasurementError, match="'toe_right \\[deg\\]' is missing"):
         write_kc_test(p, "parallel_travel", {"wheel_travel_left": x, "wheel_travel_right": x,
@@ -174,7 +155,7 @@ def test_writer_refuses_what_the_reader_refuses(tmp_path):
 
 
 def test_a_corner_reads_its_own_wheel_and_refuses_a_file_without_it(tmp_path, case_dict):
-    x = sweep(90.0)
+    x = sweep(90.0, 6)
     case_dict.pop("axle")
     case_dict["kc_test"] = {"folder": "."}
     write_kc_test(tmp_path / "parallel_travel.csv", "parallel_travel",
