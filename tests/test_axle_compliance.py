@@ -226,7 +226,7 @@ def test_anti_squat_and_traction_anti_lift():
     rear = trailing_arm_axle(800.0, 450.0)  # IC ahead of a rear wheel, above its centre
     # chassis-mounted final drive: the line from the wheel centre
     expected = (1 - fd) * ((450.0 - RL) / 800.0) * L / H * 100
-    out = ac.percent_anti_squat(rear, L, H, RL, fd, reference="wheel_centre")
+    out = ac.percent_anti_squat(rear, L, H, RL, fd, drive="inboard")
     assert out["left"] == pytest.approx(expected)
     geo = ic.percent_anti_geometric(800.0, 450.0, 0.0, RL, L, H, 1 - fd, "rear")
     assert float(geo) == pytest.approx(expected)

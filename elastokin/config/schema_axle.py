@@ -108,10 +108,10 @@ class VehicleSpec(StrictModel):
     brake_fraction: float = Field(default=0.6, ge=0, le=1)  # this axle's share of braking
     drive_fraction: float = Field(default=1.0, ge=0, le=1)  # this axle's share of drive
     brakes: Literal["outboard", "inboard"] = "outboard"
-    #: where the drive torque is reacted: ``inboard`` by the body (a chassis-mounted final
-    #: drive and drive shafts: the tractive force acts at the wheel centre), ``outboard`` by
-    #: the wheel carrier (hub motors: at the contact patch)
-    drive: Literal["inboard", "outboard"] = "inboard"
+    #: where the brake and the drive torques are reacted: ``outboard`` by the wheel carrier
+    #: (the force acts at the contact patch, ADAMS/Car's convention), ``inboard`` by the body
+    #: (inboard brakes, a chassis-mounted final drive: at the wheel centre)
+    drive: Literal["outboard", "inboard"] = "outboard"
 
 
 class AxleSpec(StrictModel):

@@ -311,7 +311,7 @@ def percent_anti_dive(C, wheelbase_mm, cg_height_mm, loaded_radius_mm, front_bra
     _check_vehicle(wheelbase_mm, cg_height_mm, front_brake_fraction, "front_brake_fraction")
     v = cg_height_mm / (2.0 * wheelbase_mm)
     return percent_anti_from_compliance(C, -front_brake_fraction / 2.0, v, v, loaded_radius_mm,
-                                        _brake_reference(brakes))
+                                        _torque_reference(brakes, "brakes"))
 
 
 def percent_anti_lift_braking(C, wheelbase_mm, cg_height_mm, loaded_radius_mm,
@@ -321,38 +321,44 @@ def percent_anti_lift_braking(C, wheelbase_mm, cg_height_mm, loaded_radius_mm,
     _check_vehicle(wheelbase_mm, cg_height_mm, front_brake_fraction, "front_brake_fraction")
     v = -cg_height_mm / (2.0 * wheelbase_mm)
     return percent_anti_from_compliance(C, -(1.0 - front_brake_fraction) / 2.0, v, v,
-                                        loaded_radius_mm, _brake_reference(brakes))
+                                        loaded_radius_mm, _torque_reference(brakes, "brakes"))
 
 
-def _brake_reference(brakes: str) -> str:
-    if brakes not in ("outboard", "inboard"):
-        raise ValueError(f"brakes must be 'outboard' or 'inboard', got {brakes!r}")
-    return "contact_patch" if brakes == "outboard" else "wheel_centre"
+def _torque_reference(where: str, name: str) -> str:
+    """Where the brake or drive force acts: the contact patch when the torque is reacted by
+    the wheel carrier (``outboard``), the wheel centre when by the body (``inboard``)."""
+    if where not in ("outboard", "inboard"):
+        raise ValueError(f"{name} must be 'outboard' or 'inboard', got {where!r}")
+    return "contact_patch" if where == "outboard" else "wheel_centre"
 
 
 def percent_anti_lift_traction(C, wheelbase_mm, cg_height_mm, loaded_radius_mm,
-                               front_drive_fraction, reference: str = "contact_patch",
+                               front_drive_fraction, drive: str = "outboard",
                                live_axle_ratio: float | None = None,
                                track_mm: float | None = None) -> dict[str, float]:
     """Front percent anti-lift under acceleration (ADAMS/Car "Percent Anti-lift Under
     Acceleration"): traction ``+fd/2`` per wheel, weight transfer ``-h/(2L)``; a live
     (dependent) axle adds ``-/+ T/track`` (left/right) with ``T = Rl |F_l + F_r| /
-    live_axle_ratio``. ``reference`` as :func:`percent_anti_from_compliance`."""
+    live_axle_ratio``. ``drive``: where the drive torque is reacted, ``"outboard"`` (by the
+    wheel carrier: the force at the contact point, ADAMS) or ``"inboard"`` (by the body: at
+    the wheel centre)."""
     _check_vehicle(wheelbase_mm, cg_height_mm, front_drive_fraction, "front_drive_fraction")
     f = front_drive_fraction / 2.0
     vl, vr = _live_axle(f, loaded_radius_mm, live_axle_ratio, track_mm)
     v = -cg_height_mm / (2.0 * wheelbase_mm)
-    return percent_anti_from_compliance(C, f, v + vl, v + vr, loaded_radius_mm, reference)
+    return percent_anti_from_compliance(C, f, v + vl, v + vr, loaded_radius_mm,
+                                        _torque_reference(drive, "drive"))
 
 
 def percent_anti_squat(C, wheelbase_mm, cg_height_mm, loaded_radius_mm, front_drive_fraction,
-                       reference: str = "contact_patch", live_axle_ratio: float | None = None,
+                       drive: str = "outboard", live_axle_ratio: float | None = None,
                        track_mm: float | None = None) -> dict[str, float]:
     """Rear percent anti-squat under acceleration (ADAMS/Car "Anti-Squat Under
     Acceleration"): traction ``+(1 - fd)/2`` per wheel, weight transfer ``+h/(2L)``, live
-    axle as :func:`percent_anti_lift_traction`."""
+    axle and ``drive`` as :func:`percent_anti_lift_traction`."""
     _check_vehicle(wheelbase_mm, cg_height_mm, front_drive_fraction, "front_drive_fraction")
     f = (1.0 - front_drive_fraction) / 2.0
     vl, vr = _live_axle(f, loaded_radius_mm, live_axle_ratio, track_mm)
     v = cg_height_mm / (2.0 * wheelbase_mm)
-    return percent_anti_from_compliance(C, f, v + vl, v + vr, loaded_radius_mm, reference)
+    return percent_anti_from_compliance(C, f, v + vl, v + vr, loaded_radius_mm,
+                                        _torque_reference(drive, "drive"))
