@@ -21,6 +21,8 @@ from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
 from elastokin.formats import adams_car, adams_export, adams_kc, teimorbit
 
+from .suspension_checks import assert_same_bushings
+
 DATA = Path(__file__).parent / "data"
 ADAMS = DATA / "adams"
 WISHBONE = DATA / "double_wishbone.yaml"
@@ -438,10 +440,7 @@ def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
     back = suspension_from_dict(cfg, "imported.yaml")
     for name, p in s.hardpoints.items():
         np.testing.assert_array_equal(back.hardpoints[name], p)
-    x = np.linspace(-20.0, 20.0, 81)
-    for b0, b1 in zip(s.bushings, back.bushings):
-        for law0, law1 in zip(b0.laws, b1.laws):
-            np.testing.assert_allclose(law1(x), law0(x), rtol=1e-12, atol=1e-9)
+    assert_same_bushings(s, back, np.linspace(-20.0, 20.0, 81))
     original = steer_amplitude(data, "original.yaml")
     assert steer_amplitude(template, "scrambled.yaml") != pytest.approx(original, abs=1e-3)
     assert steer_amplitude(cfg, "imported.yaml") == pytest.approx(original, abs=1e-6)

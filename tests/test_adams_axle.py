@@ -42,6 +42,8 @@ from elastokin.rig.characteristics import measured
 from elastokin.rig.drives import roll_drive, steering_drive
 from elastokin.rig.load_cases import run_drive_sides
 
+from .suspension_checks import assert_same_bushings
+
 ROOT = Path(__file__).resolve().parents[1]
 AXLE = ROOT / "configs" / "double_wishbone_axle.yaml"
 CASE = ROOT / "configs" / "pseudo_mcpherson.yaml"
@@ -200,11 +202,7 @@ def test_round_trip_double_wishbone_axle(tmp_path, axle):
     assert cfg["axle"] == data["axle"]  # bar rate, rack ratio and travel limit exact
     assert {p.name for p in read} == {"lca_bushing.bus", "uca_bushing.bus", "arb_bushing.bus"}
     back = suspension_from_dict(cfg, "imported.yaml")
-    x = np.linspace(-20.0, 20.0, 81)
-    for b0, b1 in zip(s.bushings, back.bushings):
-        assert b0.name == b1.name
-        for law0, law1 in zip(b0.laws, b1.laws):
-            np.testing.assert_allclose(law1(x), law0(x), rtol=1e-12, atol=1e-9)
+    assert_same_bushings(s, back, np.linspace(-20.0, 20.0, 81))
     assert back.axle.anti_roll_bar.law == s.axle.anti_roll_bar.law
     assert back.axle.steering.ratio == s.axle.steering.ratio
     assert back.axle.steering.limit_mm == 87.0
@@ -289,10 +287,7 @@ def test_round_trip_asymmetric_axle_with_curves(tmp_path, axle):
     back = suspension_from_dict(cfg, "back.yaml")
     for k, p in s.hardpoints.items():
         np.testing.assert_array_equal(back.hardpoints[k], p)
-    x = np.linspace(-30.0, 30.0, 121)
-    for b0, b1 in zip(s.bushings, back.bushings):
-        for law0, law1 in zip(b0.laws, b1.laws):
-            np.testing.assert_allclose(law1(x), law0(x), rtol=1e-12, atol=1e-9)
+    assert_same_bushings(s, back, np.linspace(-30.0, 30.0, 121))
     assert back.axle.anti_roll_bar.law == s.axle.anti_roll_bar.law
     assert back.axle.steering.ratio == s.axle.steering.ratio
 
