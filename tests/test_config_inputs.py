@@ -171,6 +171,12 @@ BAD_CONFIGS = {
         ["connections.J4.stiffness.rz", "required"], []),
     "unknown connection type": (_set("connections", "J8", "type", "ball"),
                                 ["connections.J8", "'ball'"], []),
+    # --- two points that must differ
+    "link of one point": (_set("connections", "tie_rod", "at", ["J3", "J3"]),
+                          ["connections.tie_rod.at", "two distinct points"], []),
+    "spring seats coincide": (_set("springs", "coil", "seats",
+                                   ["spring_upper_seat", "spring_upper_seat"]),
+                              ["springs.coil.seats", "the two spring seats coincide"], []),
 }
 
 

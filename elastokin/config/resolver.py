@@ -49,6 +49,13 @@ class Resolver:
             return self.hardpoints[p].copy()
         return np.asarray(p, float)
 
+    def point_pair(self, pair, key: str, coincide: str) -> tuple[np.ndarray, np.ndarray]:
+        """Two distinct points (mm); ``coincide``: the error when they are the same."""
+        pts = (self.point(pair[0], key), self.point(pair[1], key))
+        if np.linalg.norm(pts[1] - pts[0]) < 1e-6:
+            raise self.fail(key, coincide)
+        return pts
+
     def axis(self, a: AxisSpec, key: str) -> np.ndarray:
         if isinstance(a, AxisBetween):
             v = self.point(a.to, key + ".to") - self.point(a.from_, key + ".from")
@@ -149,9 +156,7 @@ class Resolver:
                 continue
             parts = self.parts(c.parts, key)
             if isinstance(c, LinkSpec):
-                pts = (self.point(c.at[0], key + ".at"), self.point(c.at[1], key + ".at"))
-                if np.linalg.norm(pts[1] - pts[0]) < 1e-6:
-                    raise self.fail(key + ".at", "a link needs two distinct points")
+                pts = self.point_pair(c.at, key + ".at", "a link needs two distinct points")
                 links.append(Link(self.name(name), parts, pts))
                 continue
             pos = self.point(c.at, key + ".at")
@@ -224,10 +229,7 @@ class Resolver:
             if not self.keep(sp.parts):
                 continue
             parts = self.parts(sp.parts, key)
-            seats = (self.point(sp.seats[0], key + ".seats"),
-                     self.point(sp.seats[1], key + ".seats"))
-            if np.linalg.norm(seats[1] - seats[0]) < 1e-6:
-                raise self.fail(key + ".seats", "the two spring seats coincide")
+            seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
             springs.append(Spring(self.name(name), parts, seats, sp.rate_N_per_mm,
                                   sp.preload_N, sp.free_length_mm))
         return springs
@@ -239,10 +241,8 @@ class Resolver:
             if not self.keep(st.parts):
                 continue
             parts = self.parts(st.parts, key)
-            pts = (self.point(st.points[0], key + ".points"),
-                   self.point(st.points[1], key + ".points"))
-            if np.linalg.norm(pts[1] - pts[0]) < 1e-6:
-                raise self.fail(key + ".points", "the two points of a stop coincide")
+            pts = self.point_pair(st.points, key + ".points",
+                                  "the two points of a stop coincide")
             if st.type == "bump" and st.clearance_mm >= np.linalg.norm(pts[1] - pts[0]):
                 raise self.fail(key + ".clearance_mm", "a bump stop's clearance must be less "
                                 "than the distance of its points")
