@@ -198,6 +198,7 @@ def _text(old: str, new: str) -> str:
     assert old in NOMINAL_TEXT, old
     return NOMINAL_TEXT.replace(old, new, 1)
 
+
 CONFIG_CASES = [
     kc("malformed YAML", ["line", "malformed YAML"], text="name: [unclosed\n"),
     kc("not a mapping", ["mapping"], text="- 1\n- 2\n"),

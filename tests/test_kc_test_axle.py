@@ -36,8 +36,6 @@ KC_TEST = CASE.parent / "pseudo_mcpherson_kc_test"
 ONE_WHEEL = ROOT / "tests" / "data" / "kc_test_one_wheel"  # the shipped files before axles
 
 
-
-
 # ---------------------------------------------------------------------------- round trips
 
 

@@ -72,8 +72,6 @@ class TorqueSweepSpec(StrictModel):
         return self
 
 
-
-
 class OppositeTravelSpec(TravelSpec):
     """Opposite wheel travel (axle): the left wheel's pad follows the travel, the right's the
     opposite (mm; ADAMS/Car's opposite wheel travel)."""

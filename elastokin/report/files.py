@@ -28,6 +28,7 @@ from elastokin.version import __version__, exudyn_version
 if TYPE_CHECKING:
     from elastokin.studies.kc_job import KCRun
 
+
 def config_provenance(s) -> dict:
     """Versions, the config file and its SHA-256, the rig file (None: the config's own rig
     section) and its SHA-256, units: carried by every result file."""

@@ -35,6 +35,7 @@ def kc_table(summary: dict, out_dir: Path) -> str:
                f"{fixed(b['torsion_deg'], 4):>13}")
         lines.append(row + (f"   {ref_txt}" if ref_txt else ""))
     lines.append("")
+
     def num(v, fmt):
         return "-" if v is None else format(v, fmt)
 

@@ -361,6 +361,7 @@ CHARACTERISTICS: dict[str, Characteristic] = {c.name: c for c in CHARACTERISTIC_
 GRADIENTS = {c.name: c for c in CHARACTERISTIC_LIST if c.load_case is not None
              and c.name != "bump_steer_deg_per_m"}
 
+
 def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Characteristic:
     return Characteristic(name, label, unit, fmt, definition)
 

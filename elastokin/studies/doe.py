@@ -195,7 +195,6 @@ def make_study(suspension: Suspension, samples: int, method: str = "lhs", seed: 
                  shift_components(joints, u), job)
 
 
-
 def nominal_characteristics(study: Study) -> dict:
     """The characteristics of the nominal suspension (no clearance shift), same load cases;
     raises :class:`SolverError` when its own model does not solve."""

@@ -182,8 +182,6 @@ def run_study(study: Study, store: SampleStore, client=None, limit: int | None =
     return len(items)
 
 
-
-
 def dask_client(scheduler: str | None, workers: int):
     """A dask client: connected to ``scheduler``, or on a new LocalCluster of ``workers``
     single-threaded worker processes. Returns (client, cluster or None)."""
