@@ -1,0 +1,15 @@
+"""Checks of a resolved Suspension read back from a file, shared by the ADAMS/Car tests."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def assert_same_bushings(expected, actual, deflections: np.ndarray) -> None:
+    """Every bushing of ``actual`` has the name and, at ``deflections`` (mm or deg), the
+    force/torque of each direction's law of ``expected``'s (to 1e-12 relative, 1e-9 N)."""
+    assert [b.name for b in actual.bushings] == [b.name for b in expected.bushings]
+    for b0, b1 in zip(expected.bushings, actual.bushings):
+        for law0, law1 in zip(b0.laws, b1.laws):
+            np.testing.assert_allclose(law1(deflections), law0(deflections), rtol=1e-12,
+                                       atol=1e-9)
