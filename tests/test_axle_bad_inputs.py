@@ -63,6 +63,11 @@ CASES = [
      ["no drop link", "'arb_drop_link' to body"]),
     ("drop_link_to_the_shared_rack", _drop_link_to("rack"), "axle.anti_roll_bar.part",
      ["no drop link", "'arb_drop_link' to rack"]),
+    # an other-side stiffness override whose curve is not a law
+    ("other_side_curve_not_increasing",
+     _edit("axle.other_side", {"connections": {"lca_bushing": {"stiffness": {
+         "x": {"deflection": [-1.0, 0.0, 1.0], "load": [0.0, 0.0, 1.0]}}}}}),
+     "axle.other_side.connections.lca_bushing.stiffness.x", ["increasing"]),
 ]
 
 

@@ -21,7 +21,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from elastokin.config.schema import LinkSpec, RackSpec
 from elastokin.config.schema_axle import AxleSpec, SteeringSpec
 from elastokin.physics.laws import DirectionLaw
 
@@ -150,10 +149,9 @@ def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
 def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:
     """(connection, its hardpoint names) of the connections among shared parts and the
     ground, from the config's mapping."""
-    keep = set(spec.shared) | {s.ground}
     out = []
     for name, c in s.raw["connections"].items():
-        if set(c["parts"]) <= keep:
+        if declared_once(c["parts"], spec.shared, s.ground):
             pts = c["at"] if isinstance(c.get("at"), (list, tuple)) else [c.get("at")]
             names = {p for p in pts if isinstance(p, str)}
             for k in ("axis", "radial", "torsion_axis"):
@@ -171,33 +169,22 @@ def mirrored_hardpoints(s, spec: AxleSpec) -> dict[str, np.ndarray]:
     return out
 
 
-def mirrored_bushing(b, override) -> object:
+def mirrored_bushing(b, override_laws: tuple | None) -> object:
     """The other side's copy of a resolved bushing ``b`` (already resolved in the reflected
     geometry): laws of the flipped directions reflected and their initial deflection negated
-    (module docstring), then the override's laws (in the mirrored bushing's own frame)."""
-    from elastokin.physics.laws import law_from_spec
-
+    (module docstring), then the override's laws where given (None elsewhere; in the mirrored
+    bushing's own frame, BUSHING_DIRECTIONS order)."""
     laws = list(b.laws)
     u0 = np.array(b.initial_deflection, float)
     for i in MIRRORED_DIRECTIONS:
         laws[i] = reflected_law(laws[i])
         u0[i] = -u0[i]
-    if override is not None:
-        for i, d in enumerate(("x", "y", "z", "rx", "ry", "rz")):
-            v = getattr(override.stiffness, d)
-            if v is not None:
-                laws[i] = law_from_spec(v)
+    for i, law in enumerate(override_laws or ()):
+        if law is not None:
+            laws[i] = law
     return replace(b, laws=tuple(laws), initial_deflection=u0)
 
 
 def declared_once(parts: tuple[str, str], shared, ground: str) -> bool:
     """True for a connection among shared parts and the ground (kept once on an axle)."""
     return set(parts) <= set(shared) | {ground}
-
-
-def is_link(c) -> bool:
-    return isinstance(c, LinkSpec)
-
-
-def is_rack(c) -> bool:
-    return isinstance(c, RackSpec)

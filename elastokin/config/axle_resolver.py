@@ -71,7 +71,10 @@ class MirroredResolver(Resolver):
     def bushing(self, name: str, c, parts, pos, key: str):
         b = super().bushing(name, c, parts, pos, key)
         corner_name = name.removesuffix(self.suffix)
-        return mirrored_bushing(b, self.spec.axle.other_side.connections.get(corner_name))
+        override = self.spec.axle.other_side.connections.get(corner_name)
+        laws = None if override is None else self.bushing_laws(
+            override.stiffness, f"axle.other_side.connections.{corner_name}.stiffness")
+        return mirrored_bushing(b, laws)
 
 
 def resolve_suspension(resolver: Resolver, sha256: str, raw, config_sha256: str = "",

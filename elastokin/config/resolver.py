@@ -286,15 +286,21 @@ class Resolver:
                     raise self.fail(f"connections.{b.name}", "preload / initial_deflection "
                                     "conflicts with design.balance_bushing_preloads: true")
 
-    def bushing(self, name: str, c: BushingSpec, parts, pos, key: str) -> Bushing:
-        frame = self.bushing_frame(c, key)
+    def bushing_laws(self, stiffness, key: str) -> tuple:
+        """The laws of ``stiffness`` (config key ``key``) in BUSHING_DIRECTIONS order; None
+        where a direction is not given (an override)."""
         laws = []
         for d in BUSHING_DIRECTIONS:
+            spec = getattr(stiffness, d)
             try:
-                laws.append(law_from_spec(getattr(c.stiffness, d)))
+                laws.append(None if spec is None else law_from_spec(spec))
             except ValueError as exc:
-                raise self.fail(f"{key}.stiffness.{d}", str(exc)) from None
-        laws = tuple(laws)
+                raise self.fail(f"{key}.{d}", str(exc)) from None
+        return tuple(laws)
+
+    def bushing(self, name: str, c: BushingSpec, parts, pos, key: str) -> Bushing:
+        frame = self.bushing_frame(c, key)
+        laws = self.bushing_laws(c.stiffness, key + ".stiffness")
         if c.initial_deflection is not None:
             u0 = np.r_[c.initial_deflection.translation_mm, c.initial_deflection.rotation_deg]
         elif c.preload is not None:

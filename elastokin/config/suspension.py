@@ -229,10 +229,6 @@ class Axle:
     vehicle: VehicleSpec | None
     balance_springs: tuple[str, ...]
 
-    def name_on(self, side: str, name: str) -> str:
-        """The name of a corner item on ``side`` (the config side keeps its names)."""
-        return name if side == self.sides[0] or name in self.shared else name + self.suffix
-
 
 @dataclass(frozen=True)
 class Suspension:
