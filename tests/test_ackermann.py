@@ -228,8 +228,11 @@ def test_ackermann_partner_is_100_percent_by_the_other_definitions():
     assert np.allclose(ak.percent_ackermann(-outer, -inner, L, T), 100.0)
 
 
+# steer angles of subnormal size (below 2.2e-308 deg) are left out: there a float has no
+# 1e-12 relative precision to compare with (hypothesis found 2.2e-311 deg)
 @settings(max_examples=60, deadline=None)
-@given(st.floats(-45.0, 45.0), st.floats(1500.0, 4000.0), st.floats(1000.0, 2000.0))
+@given(st.floats(-45.0, 45.0, allow_subnormal=False), st.floats(1500.0, 4000.0),
+       st.floats(1000.0, 2000.0))
 def test_ackermann_partner_round_trip(steer, wheelbase, track):
     other = ak.ackermann_partner_steer_deg(steer, "left", wheelbase, track)
     back = ak.ackermann_partner_steer_deg(other, "right", wheelbase, track)

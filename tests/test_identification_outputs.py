@@ -136,11 +136,11 @@ def test_kc_on_the_identified_config_overlays_the_test(identified, tmp_path):
     ("identified_stiffness", True, "stiffness_identification.enabled: false"),
 ])
 def test_a_label_that_would_clash_is_refused(case, label, fit, expected):
-    from elastokin.config.frozen import thaw
+    from elastokin.config.frozen import plain_data
     from elastokin.config.loading import suspension_from_dict
     from elastokin.errors import ConfigError
 
-    data = {**thaw(case.raw), "measurements": None, "label": label}
+    data = {**plain_data(case.raw), "measurements": None, "label": label}
     data["kc_test"]["stiffness_identification"]["enabled"] = fit
     with pytest.raises(ConfigError, match="key 'label'") as err:
         suspension_from_dict(data, "c.yaml")

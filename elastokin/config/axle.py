@@ -28,6 +28,9 @@ from elastokin.physics.laws import DirectionLaw
 CENTRE_PLANE_TOLERANCE_MM = 1e-6
 #: bushing directions whose deflection changes sign in the mirrored frame (y, rx, rz)
 MIRRORED_DIRECTIONS = (1, 3, 5)
+#: +1 / -1 per bushing direction: a deflection, force or preload in the mirrored frame
+MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
+MIRROR_SIGNS.setflags(write=False)
 MIRROR = np.diag([1.0, -1.0, 1.0])
 
 
@@ -39,6 +42,13 @@ def reflected_law(law: DirectionLaw) -> DirectionLaw:
     """The point reflection F'(u) = -F(-u) of a law (the same law when it is odd)."""
     return DirectionLaw(tuple(-u for u in reversed(law.deflection)),
                         tuple(-f for f in reversed(law.load)))
+
+
+def mirrored_laws(laws) -> tuple:
+    """A bushing's six laws as its mirror has them (in the mirrored frame): the laws of
+    :data:`MIRRORED_DIRECTIONS` reflected."""
+    return tuple(reflected_law(law) if i in MIRRORED_DIRECTIONS else law
+                 for i, law in enumerate(laws))
 
 
 def steering_ratio(spec: SteeringSpec, fail) -> DirectionLaw:
@@ -174,11 +184,8 @@ def mirrored_bushing(b, override_laws: tuple | None) -> object:
     geometry): laws of the flipped directions reflected and their initial deflection negated
     (module docstring), then the override's laws where given (None elsewhere; in the mirrored
     bushing's own frame, BUSHING_DIRECTIONS order)."""
-    laws = list(b.laws)
-    u0 = np.array(b.initial_deflection, float)
-    for i in MIRRORED_DIRECTIONS:
-        laws[i] = reflected_law(laws[i])
-        u0[i] = -u0[i]
+    laws = list(mirrored_laws(b.laws))
+    u0 = MIRROR_SIGNS * np.asarray(b.initial_deflection, float)
     for i, law in enumerate(override_laws or ()):
         if law is not None:
             laws[i] = law

@@ -55,7 +55,7 @@ class FrozenMapping(Mapping):
         return dict(self._data)
 
     def __deepcopy__(self, memo: dict) -> dict:
-        return thaw(self)
+        return plain_data(self)
 
 
 def readonly(a, dtype=float) -> np.ndarray:
@@ -75,16 +75,6 @@ def freeze(data, hint: str = ""):
         return FrozenMapping({k: freeze(v, hint) for k, v in data.items()}, hint)
     if isinstance(data, list | tuple):
         return tuple(freeze(v, hint) for v in data)
-    return data
-
-
-def thaw(data):
-    """Plain, editable config data: :class:`FrozenMapping` and other mappings as ``dict``,
-    tuples as lists."""
-    if isinstance(data, Mapping):
-        return {k: thaw(v) for k, v in data.items()}
-    if isinstance(data, list | tuple):
-        return [thaw(v) for v in data]
     return data
 
 

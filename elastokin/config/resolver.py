@@ -13,7 +13,16 @@ import numpy as np
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
 from elastokin.config.schema import BushingSpec, LinkSpec, RackSpec, SuspensionFile
 from elastokin.config.schema_base import AxisBetween, AxisSpec, PointSpec
-from elastokin.config.suspension import Bushing, Joint, Link, Spring, Stop, Suspension, Wheel
+from elastokin.config.suspension import (
+    Bushing,
+    Joint,
+    Link,
+    Spring,
+    Stop,
+    Suspension,
+    Wheel,
+    outboard_direction,
+)
 from elastokin.errors import ConfigError
 from elastokin.physics.joints import BUSHING_DIRECTIONS, CONSTRAINED
 from elastokin.physics.laws import law_from_spec
@@ -191,9 +200,7 @@ class Resolver:
         centre = self.point(w.centre, "wheel.centre")
         spin = self.spin_axis()
         # orient the spin axis outboard, whatever sign the file used
-        left = 1.0 if s.frame.y == "left" else -1.0
-        outboard_y = left if self.side == "left" else -left
-        if spin[1] * outboard_y < 0:
+        if spin @ outboard_direction(s.frame, self.side) < 0:
             spin = -spin
         return Wheel(wheel_part, centre, spin, w.loaded_radius_mm, w.tyre_rate_N_per_mm)
 

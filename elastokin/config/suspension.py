@@ -230,6 +230,13 @@ class Axle:
     balance_springs: tuple[str, ...]
 
 
+def outboard_direction(frame, side: str) -> np.ndarray:
+    """Unit vector (config frame) pointing away from the vehicle centreline on ``side``
+    ('left'/'right') for a config frame whose y axis points ``frame.y``."""
+    left = np.array([0.0, 1.0 if frame.y == "left" else -1.0, 0.0])
+    return left if side == "left" else -left
+
+
 @dataclass(frozen=True)
 class Suspension:
     """A resolved suspension: everything in mm, N, deg, config frame; read-only (module
@@ -314,8 +321,7 @@ class Suspension:
     @property
     def outboard(self) -> np.ndarray:
         """Unit vector pointing away from the vehicle centreline on this wheel's side."""
-        left = np.array([0.0, 1.0 if self.frame.y == "left" else -1.0, 0.0])
-        return left if self.side == "left" else -left
+        return outboard_direction(self.frame, self.side)
 
     @property
     def up(self) -> np.ndarray:

@@ -131,13 +131,12 @@ def corner(suspension: Suspension) -> Suspension:
     is returned as it is."""
     if suspension.axle is None:
         return suspension
-    from elastokin.config.resolver import Resolver
-    from elastokin.config.schema import SuspensionFile
+    from elastokin.config.loading import suspension_from_dict
 
-    raw = {k: v for k, v in suspension.raw.items() if k != "axle"}
-    resolver = Resolver(SuspensionFile.model_validate(raw), suspension.source)
-    alone = resolver.resolve(suspension.sha256, raw, suspension.config_sha256,
-                             suspension.rig_sha256)
+    alone = suspension_from_dict({k: v for k, v in suspension.raw.items() if k != "axle"},
+                                 suspension.source, suspension.sha256,
+                                 config_sha256=suspension.config_sha256,
+                                 rig_sha256=suspension.rig_sha256)
     return dataclasses.replace(alone, rig=suspension.rig, rig_source=suspension.rig_source)
 
 
@@ -160,13 +159,11 @@ def mirrored_design(corner_state: DesignState, suffix: str) -> DesignState:
     """The design state of a mirrored axle from its corner's: each spring's force and each
     bushing's preload (its frame mirrored: components y, rx, rz negated) again for the other
     side's copy, named with ``suffix``."""
-    from elastokin.config.axle import MIRRORED_DIRECTIONS
+    from elastokin.config.axle import MIRROR_SIGNS
 
-    flip = np.ones(6)
-    flip[list(MIRRORED_DIRECTIONS)] = -1.0
     springs = dict(corner_state.spring_force_N)
     springs.update({n + suffix: f for n, f in corner_state.spring_force_N.items()})
     bushings = dict(corner_state.bushing_preload)
-    bushings.update({n + suffix: flip * np.asarray(p, float)
+    bushings.update({n + suffix: MIRROR_SIGNS * np.asarray(p, float)
                      for n, p in corner_state.bushing_preload.items()})
     return DesignState(springs, bushings)

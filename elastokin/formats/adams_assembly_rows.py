@@ -16,7 +16,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from elastokin.config.axle import MIRRORED_DIRECTIONS, reflected_law
+from elastokin.config.axle import MIRROR_SIGNS, mirrored_laws, other_side
 from elastokin.config.suspension import Bushing, Suspension
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_car import clean
@@ -25,7 +25,7 @@ from elastokin.formats.adams_property_files import number
 from elastokin.formats.adams_subsystem import AssemblyRow, SubsystemSpec
 from elastokin.physics.pose import euler_zxz_deg
 
-__all__ = ["bushing_rows", "is_mirrored_axle", "mirror_laws", "spring_rows"]
+__all__ = ["bushing_rows", "is_mirrored_axle", "spring_rows"]
 
 #: relative difference under which the two sides' preloads or spring forces are the same
 SAME_LOAD_RTOL = 1e-6
@@ -39,12 +39,6 @@ def is_mirrored_axle(s: Suspension) -> bool:
     return not o.get("hardpoints") and not o.get("connections")
 
 
-def mirror_laws(b: Bushing) -> tuple:
-    """The laws the mirror of bushing ``b`` has (in its mirrored frame)."""
-    flip = set(MIRRORED_DIRECTIONS)
-    return tuple(reflected_law(law) if i in flip else law for i, law in enumerate(b.laws))
-
-
 def _other(s: Suspension, name: str, items) -> object | None:
     """The other side's copy of corner item ``name`` (None: declared once, or a corner)."""
     if s.axle is None:
@@ -53,7 +47,7 @@ def _other(s: Suspension, name: str, items) -> object | None:
 
 
 def _sides(s: Suspension) -> tuple[str, str]:
-    return s.side, "right" if s.side == "left" else "left"
+    return s.side, other_side(s.side)
 
 
 def _same(a, b) -> bool:
@@ -90,8 +84,6 @@ def bushing_rows(s: Suspension, spec: SubsystemSpec, names: Iterable[str],
     rows, files = [], {}
     mirrored = is_mirrored_axle(s)
     this, that = _sides(s)
-    flip = np.ones(6)
-    flip[list(MIRRORED_DIRECTIONS)] = -1.0
     for name in names:
         b = next(x for x in s.bushings if x.name == name)
         usage = usages[name]
@@ -102,9 +94,9 @@ def bushing_rows(s: Suspension, spec: SubsystemSpec, names: Iterable[str],
             symmetry = "single" if s.axle is not None and other is None else "left/right"
             rows.append(_bushing_row(s, spec, b, usage, file, preload, this, symmetry))
             continue
-        same_laws = mirror_laws(b) == other.laws
+        same_laws = mirrored_laws(b.laws) == other.laws
         if same_laws and other.name in preload and b.name in preload and \
-                _same(flip * np.asarray(preload[b.name], float), preload[other.name]):
+                _same(MIRROR_SIGNS * np.asarray(preload[b.name], float), preload[other.name]):
             rows.append(_bushing_row(s, spec, b, usage, file, preload, this, "left/right"))
             continue
         other_file = file if same_laws else f"{usage}_{that}.bus"

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, reflected_law
+from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, other_side, reflected_law
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_assemblies import read_bushing_assemblies
 from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
@@ -154,10 +154,6 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
                             for s in ("suspension", "anti_roll_bar", "steering")))
 
 
-def _other(side: str) -> str:
-    return "right" if side == "left" else "left"
-
-
 def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
     """The other side's points of the mapped hardpoints: an override in
     ``axle.other_side.hardpoints`` where they are not the mirror of the config side's."""
@@ -170,7 +166,7 @@ def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
             over.pop(name, None)
             continue
         try:
-            q = adams_to_config(hp.at(_other(this or side)), cfg["frame"])
+            q = adams_to_config(hp.at(other_side(this or side)), cfg["frame"])
         except ConfigError as exc:
             raise ConfigError(f"{where}: {exc}") from None
         p = np.asarray(cfg["hardpoints"][name], float)
@@ -191,7 +187,7 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
     read = []
     for name, usage in mapping.bushing_usage.items():
         sides = blocks.get(usage, {})
-        a, b = sides.get(side), sides.get(_other(side))
+        a, b = sides.get(side), sides.get(other_side(side))
         if name in props and a is not None and b is not None and \
                 a.property_file != b.property_file and b.property_file:
             path = database_file(b.property_file, sub)

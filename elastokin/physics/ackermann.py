@@ -46,6 +46,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from elastokin.physics.axle_compliance import outboard_sign
+
 __all__ = [
     "ackermann_angle_deg",
     "ackermann_partner_steer_deg",
@@ -75,11 +77,15 @@ def steer_angles_from_toe(toe_left_deg, toe_right_deg, static_toe_left_deg=0.0,
             _vec(toe_right_deg) - _vec(static_toe_right_deg))
 
 
-def _turn(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm):
-    """(sense, inner, outer [rad, in the turn's sense], cot inner, cot outer, L, t)."""
+def _check_lengths(wheelbase_mm, track_mm) -> None:
     if not (np.all(_vec(wheelbase_mm) > 0) and np.all(_vec(track_mm) > 0)):
         raise ValueError(f"wheelbase_mm and track_mm must be > 0, got {wheelbase_mm}, "
                          f"{track_mm}")
+
+
+def _turn(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm):
+    """(sense, inner, outer [rad, in the turn's sense], cot inner, cot outer, L, t)."""
+    _check_lengths(wheelbase_mm, track_mm)
     left, right = np.radians(_vec(steer_left_deg)), np.radians(_vec(steer_right_deg))
     sense = np.where(left + right < 0, -1.0, 1.0)  # turning right: mirror
     inner = sense * np.where(sense > 0, left, right)
@@ -94,15 +100,19 @@ def turn_radius_mm(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm) -> n
     ``inf`` straight ahead."""
     _, _, _, cot_i, cot_o, L, _ = _turn(steer_left_deg, steer_right_deg, wheelbase_mm,
                                         track_mm)
+    return _radius(cot_i, cot_o, L)
+
+
+def _radius(cot_inner, cot_outer, wheelbase_mm) -> np.ndarray:
     with np.errstate(invalid="ignore"):
-        return L * (cot_i + cot_o) / 2.0
+        return wheelbase_mm * (cot_inner + cot_outer) / 2.0
 
 
 def ackermann_angle_deg(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm) -> np.ndarray:
     """Ackermann angle [deg] ``atan(L / R)``, + turning left; 0 straight ahead."""
-    sense = _turn(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)[0]
-    R = turn_radius_mm(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
-    return sense * np.degrees(np.arctan(_vec(wheelbase_mm) / R))
+    sense, _, _, cot_i, cot_o, L, _ = _turn(steer_left_deg, steer_right_deg, wheelbase_mm,
+                                            track_mm)
+    return sense * np.degrees(np.arctan(L / _radius(cot_i, cot_o, L)))
 
 
 def percent_ackermann(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm,
@@ -120,9 +130,9 @@ def ackermann_error_deg(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
     """Ackermann error [deg] ``do - atan(L / (R + t/2))`` in the turn's sense (module
     docstring): + when the outer wheel steers more than its Ackermann angle for the turn
     radius ``R``."""
-    _, _, outer, _, _, L, t = _turn(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
-    R = turn_radius_mm(steer_left_deg, steer_right_deg, wheelbase_mm, track_mm)
-    return np.degrees(outer - np.arctan(L / (R + t / 2.0)))
+    _, _, outer, cot_i, cot_o, L, t = _turn(steer_left_deg, steer_right_deg, wheelbase_mm,
+                                            track_mm)
+    return np.degrees(outer - np.arctan(L / (_radius(cot_i, cot_o, L) + t / 2.0)))
 
 
 def ackermann_partner_steer_deg(steer_deg, side: str, wheelbase_mm,
@@ -133,13 +143,10 @@ def ackermann_partner_steer_deg(steer_deg, side: str, wheelbase_mm,
     left wheel and ``tan d_left = sin d_right / (cos d_right - (t/L) sin d_right)`` from the
     right; 0 at 0. The inner wheel's ideal from the outer's and the outer's from the inner's
     are the same relation."""
-    if side not in ("left", "right"):
-        raise ValueError(f"side must be 'left' or 'right', got {side!r}")
-    if not (np.all(_vec(wheelbase_mm) > 0) and np.all(_vec(track_mm) > 0)):
-        raise ValueError(f"wheelbase_mm and track_mm must be > 0, got {wheelbase_mm}, "
-                         f"{track_mm}")
+    sign = outboard_sign(side)
+    _check_lengths(wheelbase_mm, track_mm)
     d = np.radians(_vec(steer_deg))
-    k = (1.0 if side == "left" else -1.0) * _vec(track_mm) / _vec(wheelbase_mm)
+    k = sign * _vec(track_mm) / _vec(wheelbase_mm)
     return np.degrees(np.arctan2(np.sin(d), np.cos(d) + k * np.sin(d)))
 
 

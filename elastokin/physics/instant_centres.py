@@ -127,7 +127,7 @@ def _view_centre(at_h, at_z, w, v_h, v_z, towards) -> ViewInstantCentre:
     # the line to the instant centre is normal to the velocity: direction (-v_z, v_h)
     angle = _line_angle_deg(-v_z * towards, v_h)
     still = (speed == 0) & (w == 0)
-    angle = np.where(still | (speed == 0), np.nan, angle)
+    angle = np.where(speed == 0, np.nan, angle)
     length = np.where(still, np.nan, np.where(at_infinity, np.inf, length))
     h = np.where(at_infinity, np.nan, h)
     z = np.where(at_infinity, np.nan, z)
@@ -222,7 +222,7 @@ def instant_centres_from_compliance(C, wheel_centre_left_mm, wheel_centre_right_
     up = np.r_[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
     out = {}
     for side, centre in (("left", wheel_centre_left_mm), ("right", wheel_centre_right_mm)):
-        sign = 1.0 if side == "left" else -1.0
+        sign = outboard_sign(side)
         rot, disp = wheel_response(C, sign * up, -sign * up, side)
         out[f"front_view_{side}"] = front_view_instant_centre(rot, disp, centre, side)
         rot, disp = wheel_response(C, up, up, side)

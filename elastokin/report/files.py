@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elastokin.config.frozen import plain_data, thaw
+from elastokin.config.frozen import plain_data
 from elastokin.physics.axle_sweeps import track_mm
 from elastokin.report.text import identification_table
 from elastokin.rig.axle_channels import iso_rotation
@@ -279,7 +279,7 @@ def written_config(config: dict, suspension, label: str, folder: Path,
            **{k: v for k, v in config.items() if k not in ("elastokin", "name", "label")}}
     kc_test = suspension.raw.get("kc_test")
     if kc_test is not None:
-        kc_test = thaw(kc_test)
+        kc_test = plain_data(kc_test)
         here = os.path.abspath(Path(suspension.source).parent / kc_test.get("folder", "."))
         there = os.path.abspath(folder)
         # relative, as a config's own paths are, unless the two share no folder but the root

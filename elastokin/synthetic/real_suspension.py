@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, other_side, reflected_law
+from elastokin.config.axle import MIRROR, mirrored_laws, other_side
 from elastokin.config.schema import RealSuspensionSpec, SyntheticSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import (
@@ -204,9 +204,7 @@ def real_axle_variant(suspension: Suspension, seed: int | None = None) -> ModelV
                                                  for x in j.part_shift_mm)
                             for j in v.suspension.joints if j.part_shift_mm is not None})
     laws = {b.name: b.laws for b in own.suspension.bushings}
-    laws.update({b.name + suffix: tuple(reflected_law(law) if k in MIRRORED_DIRECTIONS else law
-                                        for k, law in enumerate(b.laws))
-                 for b in mirror.suspension.bushings})
+    laws.update({b.name + suffix: mirrored_laws(b.laws) for b in mirror.suspension.bushings})
     real = relabelled(with_bushing_laws(with_joint_shifts(s, attachments), laws),
                       f"{s.source} (synthetic real suspension)")
     both = mirrored_design(mirror.preloads, suffix)  # the mirror's under the other side's names
