@@ -28,6 +28,7 @@ from elastokin.config.schema_base import AxisBetween
 from elastokin.config.suspension import AntiRollBar, Axle, Steering, Suspension
 from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.laws import DirectionLaw, law_from_spec
+from elastokin.physics.pose import frame_from_z
 
 
 class MirroredResolver(Resolver):
@@ -168,7 +169,7 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
             law = law_from_spec(a.curve)
         except ValueError as exc:
             raise resolver.fail(key + ".curve", str(exc)) from None
-    return AntiRollBar((part, part + suffix), pos, resolver.frame_from_z(axis), law)
+    return AntiRollBar((part, part + suffix), pos, frame_from_z(axis), law)
 
 
 def wheel_side_parts(corner: Suspension, shared, without: str) -> set[str]:

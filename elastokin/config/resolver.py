@@ -26,6 +26,7 @@ from elastokin.config.suspension import (
 from elastokin.errors import ConfigError
 from elastokin.physics.joints import BUSHING_DIRECTIONS, CONSTRAINED
 from elastokin.physics.laws import law_from_spec
+from elastokin.physics.pose import frame_from_z
 
 
 @dataclass(frozen=True)
@@ -93,13 +94,6 @@ class Resolver:
         if a == b:
             raise self.fail(f"{key}.parts", f"connects part '{a}' to itself")
         return a, b
-
-    def frame_from_z(self, z: np.ndarray) -> np.ndarray:
-        """A right-handed frame whose z column is ``z`` (x chosen normal to it)."""
-        helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
-        x = helper - (helper @ z) * z
-        x /= np.linalg.norm(x)
-        return np.column_stack([x, np.cross(z, x), z])
 
     def bushing_frame(self, c: BushingSpec, key: str) -> np.ndarray:
         if c.euler_zxz_deg is not None:
@@ -181,9 +175,9 @@ class Resolver:
         if kind in ("spherical", "fixed"):
             frame = np.eye(3)
         elif kind == "universal":
-            frame = self.frame_from_z(self.axis(c.torsion_axis, key + ".torsion_axis"))
+            frame = frame_from_z(self.axis(c.torsion_axis, key + ".torsion_axis"))
         else:
-            frame = self.frame_from_z(self.axis(c.axis, key + ".axis"))
+            frame = frame_from_z(self.axis(c.axis, key + ".axis"))
         offset = c.travel_mm if isinstance(c, RackSpec) else 0.0
         d = self.spec.design
         if offset and (d.balance_spring or d.balance_bushing_preloads):

@@ -8,10 +8,14 @@ Units mm, N, N*mm; rotations rad inside Exudyn, the laws take mm and deg; the co
 from __future__ import annotations
 
 import numpy as np
-from exudyn.advancedUtilities import CreateSymbolicUserFunction
 from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectConnectorSpringDamper
 
-from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.user_functions import (
+    DEG_PER_RAD,
+    attach_user_function,
+    max_function,
+)
+from elastokin.physics.pose import frame_from_z
 
 #: the support that holds or drives the steering rack (an axle with steering)
 STEERING_LOCK = "steering:rack"
@@ -22,16 +26,12 @@ BAR_TRANSLATION_RATE = 1.0e6
 BAR_BENDING_RATE = 1.0e10
 
 
-def _max(a, b):
-    return a if a > b else b
-
-
 def stop_function(law, kind: str, symbolic: bool):
     """A ``springForceUserFunction`` of a stop: Exudyn's spring force (+ pulls the points
     together) of the penetration beyond contact, ``deltaL`` being the length less the
     contact length: a bump stop pushes apart when shorter, a rebound stop pulls together
     when longer."""
-    maxf = exu.symbolic.max if symbolic else _max
+    maxf = max_function(symbolic)
 
     def bump(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
         return -law.expression(maxf(-deltaL, 0.0), maxf)
@@ -51,11 +51,8 @@ def add_stop(model, stop) -> int:
         markerNumbers=[m0, m1], referenceLength=stop.contact_length_mm, stiffness=0.0,
         damping=0.0, name=f"stop:{stop.name}"))
     symbolic = model.options.user_functions == "symbolic"
-    uf = stop_function(stop.law, stop.kind, symbolic)
-    if symbolic:
-        uf = CreateSymbolicUserFunction(mbs, uf, "springForceUserFunction", obj)
-        model.bushing_functions.append(uf)  # the expression tree must outlive the model
-    mbs.SetObjectParameter(obj, "springForceUserFunction", uf)
+    attach_user_function(model, obj, "springForceUserFunction",
+                         stop_function(stop.law, stop.kind, symbolic), symbolic)
     return obj
 
 
@@ -76,7 +73,7 @@ def add_anti_roll_bar(model, bar) -> int:
         useIntrinsicFormulation=True, name="anti_roll_bar"))
     if not bar.law.is_linear:
         symbolic = model.options.user_functions == "symbolic"
-        maxf = exu.symbolic.max if symbolic else _max
+        maxf = max_function(symbolic)
         law = bar.law
 
         def torsion(mbs, t, itemNumber, displacement, rotation, velocity, angularVelocity,
@@ -85,29 +82,17 @@ def add_anti_roll_bar(model, bar) -> int:
                     BAR_TRANSLATION_RATE * displacement[1],
                     BAR_TRANSLATION_RATE * displacement[2],
                     BAR_BENDING_RATE * rotation[0], BAR_BENDING_RATE * rotation[1],
-                    law.expression(rotation[2] * 57.29577951308232, maxf)]
+                    law.expression(rotation[2] * DEG_PER_RAD, maxf)]
 
-        uf = torsion
-        if symbolic:
-            uf = CreateSymbolicUserFunction(mbs, torsion, "springForceTorqueUserFunction", obj)
-            model.bushing_functions.append(uf)
-        mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
+        attach_user_function(model, obj, "springForceTorqueUserFunction", torsion, symbolic)
     return obj
 
 
 def add_steering_lock(model, steering) -> str:
     """The support holding the rack (:class:`~elastokin.config.suspension.Steering`) along
     its axis at its travel; active in every solve, at the travel unless a path is given."""
-    z = np.asarray(steering.axis, float)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = helper - (helper @ z) * z
-    x /= np.linalg.norm(x)
-    frame = np.column_stack([x, np.cross(z, x), z])
+    # a lock: active from the start, so that every constraint count sees the rack held
     model.add_support(STEERING_LOCK, steering.part, steering.position_mm, (0, 0, 1, 0, 0, 0),
-                      frame=frame)
-    model.locks[STEERING_LOCK] = np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0])
-    # active from the start, so that every constraint count sees the rack held
-    model.mbs.SetObjectParameter(model.supports[STEERING_LOCK]["object"], "activeConnector",
-                                 True)
-    model.mbs.Assemble()
+                      frame=frame_from_z(steering.axis),
+                      lock=np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0]))
     return STEERING_LOCK

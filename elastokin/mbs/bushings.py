@@ -22,13 +22,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from exudyn.advancedUtilities import CreateSymbolicUserFunction
 from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectJointGeneric
 
 from elastokin.config.suspension import Bushing
 from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
-from elastokin.mbs.user_functions import make_bushing_function
+from elastokin.mbs.user_functions import attach_user_function, make_bushing_function
 from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.laws import ProgressiveLaw
 
@@ -139,10 +138,7 @@ def add_bushing(model, b: Bushing) -> dict:
         entry["parametric"] = params
     else:
         uf = make_bushing_function(laws, u0, symbolic=symbolic)
-    if symbolic:
-        uf = CreateSymbolicUserFunction(mbs, uf, "springForceTorqueUserFunction", obj)
-        model.bushing_functions.append(uf)  # the expression tree must outlive the model
-    mbs.SetObjectParameter(obj, "springForceTorqueUserFunction", uf)
+    attach_user_function(model, obj, "springForceTorqueUserFunction", uf, symbolic)
     entry.update(object=obj, linear=False, laws=laws, u0=u0)
     return entry
 

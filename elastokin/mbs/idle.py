@@ -24,6 +24,7 @@ from exudyn.itemInterface import (
 
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.solve import simulation_settings
+from elastokin.physics.pose import frame_from_z
 
 #: a part's rotation counts as idle when its share of a null-space vector is above this
 IDLE_THRESHOLD = 1e-6
@@ -94,11 +95,7 @@ def hold_idle_spins(model) -> dict[str, list[int]]:
 
 
 def _torsion_spring(model, part: str, axis: np.ndarray, rate: float, k: int) -> int:
-    z = axis / np.linalg.norm(axis)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = helper - (helper @ z) * z
-    x /= np.linalg.norm(x)
-    frame = np.column_stack([x, np.cross(z, x), z])
+    frame = frame_from_z(axis / np.linalg.norm(axis))
     ref = model.ref[part]
     m0 = model.mbs.AddMarker(MarkerBodyRigid(bodyNumber=model.ground,
                                              localHT=exu.HT(frame, ref)))

@@ -247,11 +247,7 @@ class SuspensionModel:
             referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
             nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
         self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
-        self.add_support(name, name, ref, held)
-        self.locks[name] = np.zeros(6)
-        self.mbs.SetObjectParameter(self.supports[name]["object"], "activeConnector", True)
-        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: attaching '{name}'")
-        return name
+        return self.add_support(name, name, ref, held, lock=np.zeros(6))
 
     def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
         """Change which directions a support holds (e.g. a rig body let free to heave)."""
@@ -325,13 +321,14 @@ class SuspensionModel:
 
     # ------------------------------------------------------------------ attachments
     def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
-                    frame=None, base: str | None = None) -> str:
+                    frame=None, base: str | None = None, lock=None) -> str:
         """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
         against ``base``, another part or a rig body) in the ``constrained`` directions (6
         flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
         frame; default the config frame), following an offset path given when solving;
-        inactive in a solve that gives it no path (unless it is in :attr:`locks`). Its
-        reaction is recorded. Returns ``name``."""
+        inactive in a solve that gives it no path, unless ``lock`` (6 offsets) makes it one of
+        :attr:`locks`: active from the start, at ``lock`` unless a path is given. Its reaction
+        is recorded. Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         point = np.asarray(point_mm, float)
@@ -344,7 +341,9 @@ class SuspensionModel:
         m_part = self.rigid_marker(part, point, axes)
         obj = self.mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[m_ground, m_part], constrainedAxes=list(constrained),
-            activeConnector=False, name=name))
+            activeConnector=lock is not None, name=name))
+        if lock is not None:
+            self.locks[name] = np.asarray(lock, float)
         self.supports[name] = {"object": obj, "part": part, "marker": m_part}
         self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
             objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
@@ -404,9 +403,8 @@ class SuspensionModel:
                 raise ModelError(f"{self.suspension.source}: bushing '{name}' is not "
                                  "parametric (ModelOptions.parametric_bushings)")
             scale = self.options.stiffness_scale
-            values = params.values([law.scaled(scale) for law in six])
-            params.apply(values)
-            self.initial_deflection[name] = values[2].copy()
+            self.apply_bushing_law_values(
+                {name: params.values([law.scaled(scale) for law in six])})
 
     def bushing_law_values(self) -> dict[str, np.ndarray]:
         """The current (3, 6) scale / cubic / initial-deflection values of every parametric

@@ -8,8 +8,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
 
 from elastokin.mbs.exudyn_api import exu
+
+#: deg per rad as the user functions multiply Exudyn's rotations (rad) into the laws' deg
+DEG_PER_RAD = 57.29577951308232
 
 
 def path_hinges(ts: np.ndarray, values: np.ndarray) -> list[tuple[float, float, list]]:
@@ -34,7 +38,7 @@ def make_path_function(ts: np.ndarray, values: np.ndarray, kind: str, symbolic: 
     ``loadVectorUserFunction`` (3 values), "offset" a generic joint ``offsetUserFunction``
     (6 values). Written with hinge functions so that it converts to a symbolic function."""
     columns = path_hinges(ts, values)
-    maxf = exu.symbolic.max if symbolic else _max
+    maxf = max_function(symbolic)
 
     def value(i, t):
         c, k0, hinges = columns[i]
@@ -58,6 +62,21 @@ def _max(a, b):
     return a if a > b else b
 
 
+def max_function(symbolic: bool):
+    """max(a, b) for a user function: Exudyn's symbolic max, or Python's comparison."""
+    return exu.symbolic.max if symbolic else _max
+
+
+def attach_user_function(model, obj: int, parameter: str, function, symbolic: bool) -> None:
+    """Set ``function`` as the user function ``parameter`` of object ``obj``; symbolic: as
+    Exudyn's symbolic function (its expression tree kept with the model, which it must
+    outlive)."""
+    if symbolic:
+        function = CreateSymbolicUserFunction(model.mbs, function, parameter, obj)
+        model.bushing_functions.append(function)
+    model.mbs.SetObjectParameter(obj, parameter, function)
+
+
 def make_bushing_function(laws: Sequence, initial_deflection: Sequence, symbolic: bool):
     """The bushing's 6 loads (N, N*mm) as an Exudyn ``springForceTorqueUserFunction``.
 
@@ -68,7 +87,7 @@ def make_bushing_function(laws: Sequence, initial_deflection: Sequence, symbolic
     """
     # plain numbers, or symbolic variables of a parametric bushing (mbs.bushings)
     u0 = [x if isinstance(x, exu.symbolic.Real) else float(x) for x in initial_deflection]
-    maxf = exu.symbolic.max if symbolic else _max
+    maxf = max_function(symbolic)
 
     def evaluate(i, v):
         return laws[i].expression(v, maxf)
@@ -78,8 +97,8 @@ def make_bushing_function(laws: Sequence, initial_deflection: Sequence, symbolic
         return [evaluate(0, displacement[0] + u0[0]),
                 evaluate(1, displacement[1] + u0[1]),
                 evaluate(2, displacement[2] + u0[2]),
-                evaluate(3, rotation[0] * 57.29577951308232 + u0[3]),
-                evaluate(4, rotation[1] * 57.29577951308232 + u0[4]),
-                evaluate(5, rotation[2] * 57.29577951308232 + u0[5])]
+                evaluate(3, rotation[0] * DEG_PER_RAD + u0[3]),
+                evaluate(4, rotation[1] * DEG_PER_RAD + u0[4]),
+                evaluate(5, rotation[2] * DEG_PER_RAD + u0[5])]
 
     return bushing_loads

@@ -180,6 +180,16 @@ def zero_torsion_frame(housing_axis, v2_in_part1) -> np.ndarray:
     return np.column_stack([u, np.cross(w, u), w])
 
 
+def frame_from_z(z) -> np.ndarray:
+    """A right-handed frame (columns x, y, z) whose z column is the unit vector ``z``, x
+    chosen normal to it (from the global x axis, or y when z is near x)."""
+    z = np.asarray(z, float)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = helper - (helper @ z) * z
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
 def euler_zxz_deg(R) -> np.ndarray:
     """(psi, theta, phi), deg, with R = Rz(psi) Rx(theta) Rz(phi): the angles [20] from the
     terms a_ij of R [21]."""

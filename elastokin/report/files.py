@@ -18,9 +18,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elastokin.config.frozen import plain_data
-from elastokin.physics.axle_sweeps import track_mm
 from elastokin.report.text import identification_table
-from elastokin.rig.axle_channels import iso_rotation
+from elastokin.rig.axle_channels import design_track_mm
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
@@ -128,11 +127,9 @@ def axle_data(s) -> dict:
     ``models.<label>.axle``): its sides (the config's first), the design track at the contact
     points [mm], shared parts, steering and anti-roll bar present, and the config's
     ``axle.vehicle`` (None without)."""
-    T = iso_rotation(s)
-    patch = {side: T @ s.wheels[side].contact_patch_mm for side in ("left", "right")}
     v = s.axle.vehicle
     return {"sides": list(s.axle.sides), "config_side": s.side,
-            "track_mm": float(track_mm(patch["left"], patch["right"])),
+            "track_mm": design_track_mm(s),
             "shared_parts": list(s.axle.shared),
             "steering": s.axle.steering is not None,
             "anti_roll_bar": s.axle.anti_roll_bar is not None,

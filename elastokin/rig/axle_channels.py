@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from elastokin.config.suspension import Suspension
-from elastokin.physics.axle_sweeps import roll_angle_deg, roll_moment_Nmm
+from elastokin.physics.axle_sweeps import roll_angle_deg, roll_moment_Nmm, track_mm
 from elastokin.physics.instant_centres import kinematic_roll_centre
 from elastokin.physics.states import StepState
 
@@ -20,6 +20,14 @@ def iso_rotation(suspension: Suspension) -> np.ndarray:
     """The rotation from the config frame to ISO 8855 (x forward, y left, z up)."""
     s = suspension
     return np.column_stack([s.forward, s.left, s.up]).T
+
+
+def design_track_mm(suspension: Suspension) -> float:
+    """The axle's track at the design position [mm]: the lateral distance of the two
+    wheels' contact points."""
+    T = iso_rotation(suspension)
+    patch = {side: T @ w.contact_patch_mm for side, w in suspension.wheels.items()}
+    return abs(float(track_mm(patch["left"], patch["right"])))
 
 
 def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, drive
@@ -35,10 +43,9 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
              for side in ("left", "right")}
     centre = {side: np.array([st.wheel_centre_mm for st in by_side[side]]) @ T.T
               for side in ("left", "right")}
-    design = {side: T @ s.wheels[side].contact_patch_mm for side in ("left", "right")}
     design_centre = {side: T @ s.wheels[side].centre_mm for side in ("left", "right")}
     travel = {side: centre[side][:, 2] - design_centre[side][2] for side in centre}
-    track = abs(float(design["left"][1] - design["right"][1]))
+    track = design_track_mm(s)
     fz = {side: np.array([(T @ st.pad_force_N)[2] for st in by_side[side]])
           for side in ("left", "right")}
     cols = {"roll_angle_deg": roll_angle_deg(travel["left"], travel["right"], track),

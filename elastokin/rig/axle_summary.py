@@ -15,7 +15,7 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.physics import ackermann, axle_compliance, axle_sweeps
 from elastokin.physics.instant_centres import force_based_roll_centre
-from elastokin.rig.axle_channels import iso_rotation
+from elastokin.rig.axle_channels import design_track_mm, iso_rotation
 from elastokin.rig.characteristics import measured
 from elastokin.rig.sweeps import Sweep, find_sweep, static_row_value
 
@@ -101,9 +101,7 @@ def _steering(sweeps: dict[str, list[Sweep]], s: Suspension) -> dict:
     v = s.axle.vehicle
     if v is None:
         return out
-    patches = [s.wheels[side].contact_patch_mm for side in ("left", "right")]
-    track = abs(float((patches[0] - patches[1]) @ s.left))
-    args = (sl[k], sr[k], v.wheelbase_mm, track)
+    args = (sl[k], sr[k], v.wheelbase_mm, design_track_mm(s))
     out["percent_ackermann_lock"] = float(ackermann.percent_ackermann(*args))
     out["ackermann_error_lock_deg"] = float(ackermann.ackermann_error_deg(*args))
     out["outside_turn_diameter_mm"] = float(ackermann.outside_turn_diameter_mm(*args))

@@ -69,6 +69,11 @@ def wheel_column_tangents(states: list[StepState], suspension: Suspension
     return {name: np.stack(cols, axis=1) for name, cols in out.items()}
 
 
+def steer_sign(side: str) -> float:
+    """Steer angle (+ turning the wheel left) per toe change (+ toe-in) of ``side``'s wheel."""
+    return -1.0 if side == "left" else 1.0
+
+
 def characteristics(states: list[StepState], suspension: Suspension,
                     design: StepState | None = None) -> dict[str, np.ndarray]:
     """Per-step columns (kc.csv name -> array) from solved rig steps."""
@@ -90,7 +95,7 @@ def characteristics(states: list[StepState], suspension: Suspension,
     cols["wheelbase_change_mm"] = ahead * (patch - s.wheel.contact_patch_mm) @ s.forward
     # steer angle: toe change from the design position, + turning the wheel to the left
     toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
-    cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * (-1.0 if s.side == "left" else 1.0)
+    cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * steer_sign(s.side)
     if states[0].poses is not None:  # models that record the wheel part only: none
         cols.update(steering_axis_columns(states, s))
     mine = own_items(s)

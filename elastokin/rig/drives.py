@@ -35,6 +35,7 @@ from elastokin.config.schema_rig import (
 )
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
+from elastokin.rig.axle_channels import design_track_mm
 from elastokin.rig.channels import FORCE_CASES, LOAD_CASES
 from elastokin.rig.pad import WheelInputs
 from elastokin.rig.paths import leg, sweep_path, travel_path, vertical_force_path
@@ -70,14 +71,11 @@ class Drive:
     side_inputs: dict[str, np.ndarray] = field(default_factory=dict)
 
 
-def _wheels(s: Suspension, n: int, z=None, pad=None, centre=None, per_side=None
-            ) -> dict[str, WheelInputs]:
-    """Every wheel with the same inputs (in phase), or per side from ``per_side``."""
+def _wheels(s: Suspension, n: int, z=None, pad=None) -> dict[str, WheelInputs]:
+    """Every wheel with the same inputs (in phase): pad height ``z`` (None: force control),
+    patch forces ``pad`` (default the design wheel load), no centre loads."""
     pad = np.tile(s.up * s.design.wheel_load_N, (n, 1)) if pad is None else pad
-    centre = np.zeros((n, 6)) if centre is None else centre
-    out = {side: WheelInputs(z, pad, centre) for side in s.wheels}
-    out.update(per_side or {})
-    return out
+    return {side: WheelInputs(z, pad, np.zeros((n, 6))) for side in s.wheels}
 
 
 def parallel_travel_drive(suspension: Suspension, spec: TravelSpec | None = None,
@@ -121,9 +119,7 @@ def roll_drive(suspension: Suspension, spec: RollSpec) -> Drive:
     tangent), the pads on the heave beam that carries twice the design wheel load."""
     s = _axle(suspension, "roll_vertical_force")
     roll, branch = sweep_path(spec.amplitude_deg, spec.step_deg)
-    patches = {side: w.contact_patch_mm for side, w in s.wheels.items()}
-    track = abs(float((patches["left"] - patches["right"]) @ s.left))
-    half = 0.5 * track * np.tan(np.radians(roll))
+    half = 0.5 * design_track_mm(s) * np.tan(np.radians(roll))
     n = roll.size
     zero = np.zeros((n, 3))
     wheels = {"left": WheelInputs(-half, zero, np.zeros((n, 6))),

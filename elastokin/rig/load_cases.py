@@ -25,10 +25,12 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
+from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
+    steer_sign,
     wheel_column_tangents,
 )
 from elastokin.rig.drives import (
@@ -101,9 +103,8 @@ def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
     steps = run_rig(model, probe, np.array([t0, t0 + STEERING_PROBE_MM]),
                     what=what + ", steering sense probe")
     s = model.suspension
-    view = s.on_side(s.side)
-    toe = [characteristics([st[s.side]], view)["toe_deg"][0] for st in steps]
-    left_turn = (toe[1] - toe[0]) * (-1.0 if s.side == "left" else 1.0)
+    toe = toe_deg(np.array([st[s.side].spin_axis for st in steps]), s.forward, s.outboard)
+    left_turn = (toe[1] - toe[0]) * steer_sign(s.side)
     if left_turn >= 0.0:
         return drive
     rack = 2.0 * t0 - drive.rack_travel_mm
