@@ -185,13 +185,14 @@ def _check_axle(suspension: Suspension) -> None:
                           "'axle.other_side' out")
 
 
-def real_axle_variant(suspension: Suspension, seed: int | None = None) -> ModelVariant:
+def real_axle_variant(suspension: Suspension, seed: int | None = None,
+                      own: ModelVariant | None = None) -> ModelVariant:
     """The synthetic real suspension of an axle (module docstring): the config corner's
-    (:func:`real_suspension_variant`) and the other corner, the mirror image of a real corner
-    whose clearance shifts are drawn from ``default_rng([seed, 2])``, in one variant. A
-    corner config: :func:`real_suspension_variant`."""
+    (:func:`real_suspension_variant`; ``own`` when it is made already) and the other corner,
+    the mirror image of a real corner whose clearance shifts are drawn from
+    ``default_rng([seed, 2])``, in one variant. A corner config: the config corner's."""
     s = suspension
-    own = real_suspension_variant(s, seed)
+    own = real_suspension_variant(s, seed) if own is None else own
     if s.axle is None:
         return own
     _check_axle(s)
@@ -242,9 +243,9 @@ def run_real_suspension(suspension: Suspension, seed: int | None = None,
     if s.axle is not None:
         _check_axle(s)  # before any run
     out: dict[tuple[str, str], Sweep] = {}
+    own = real_suspension_variant(s, seed)
     for kind, ds in _runs(s):
-        model = build_model(real_axle_variant(s, seed) if kind == "axle"
-                            else real_suspension_variant(s, seed))
+        model = build_model(real_axle_variant(s, seed, own) if kind == "axle" else own)
         for drive in ds:
             progress(f"synthetic real suspension ({kind}): {drive.load_case}")
             for sw in run_drive_sides(model, "test", drive):
