@@ -12,8 +12,11 @@ from __future__ import annotations
 import numpy as np
 
 from elastokin.config.suspension import Suspension
+from elastokin.physics.axle_sweeps import wheelbase_change_mm
 from elastokin.physics.states import StepState
+from elastokin.physics.steering_geometry import track_change_mm
 from elastokin.physics.wheel import camber_deg, slope, toe_deg, windowed_slope
+from elastokin.rig.axle_channels import iso_rotation
 from elastokin.rig.channels import (
     CHARACTERISTICS,
     GRADIENTS,
@@ -89,10 +92,12 @@ def characteristics(states: list[StepState], suspension: Suspension,
         "contact_patch_fz_N": pad[:, 2],
     })
     patch = np.array([st.contact_patch_mm for st in states])
-    ahead = -1.0 if s.axle is not None and s.axle.vehicle is not None and \
-        s.axle.vehicle.position == "rear" else 1.0
-    cols["track_change_mm"] = (patch - s.wheel.contact_patch_mm) @ s.outboard
-    cols["wheelbase_change_mm"] = ahead * (patch - s.wheel.contact_patch_mm) @ s.forward
+    position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle is not None \
+        else "front"
+    cols["track_change_mm"] = track_change_mm(patch, s.wheel.contact_patch_mm, s.outboard)
+    T = iso_rotation(s)
+    cols["wheelbase_change_mm"] = wheelbase_change_mm(patch @ T.T, T @ s.wheel.contact_patch_mm,
+                                                      position)
     # steer angle: toe change from the design position, + turning the wheel to the left
     toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
     cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * steer_sign(s.side)
