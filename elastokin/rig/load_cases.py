@@ -198,8 +198,6 @@ def compliance_matrix(model: SuspensionModel, force_step_N: float = 10.0,
     and torque x, y, z (N*mm) at the wheel centre, rows = wheel-centre displacement x, y, z
     (mm) and rotation vector x, y, z (deg); config frame. On an axle: the config side's block
     of :func:`wheel_compliance` (loads on that wheel only)."""
-    if len(model.suspension.sides) == 1:
-        return wheel_compliance(model, force_step_N, torque_step_Nmm)
     return wheel_compliance(model, force_step_N, torque_step_Nmm)[:6, :6]
 
 
