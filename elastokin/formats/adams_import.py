@@ -26,7 +26,6 @@ from elastokin.errors import ConfigError
 from elastokin.formats.adams_assemblies import read_bushing_assemblies
 from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
 from elastokin.formats.adams_car import (
-    BushingProperties,
     adams_to_config,
     apply_bushings,
     apply_hardpoints,
@@ -176,8 +175,7 @@ def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
             over[name] = [clean(v) for v in q]
 
 
-def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
-                         props: Mapping[str, BushingProperties]) -> list[Path]:
+def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Path]:
     """Where a bushing's ``right`` and ``left`` blocks name different property files: the
     other side's laws, as ``axle.other_side.connections`` overrides of the directions that
     are not the mirror of the config side's. Returns the files read."""
@@ -188,8 +186,8 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
     for name, usage in mapping.bushing_usage.items():
         sides = blocks.get(usage, {})
         a, b = sides.get(side), sides.get(other_side(side))
-        if name in props and a is not None and b is not None and \
-                a.property_file != b.property_file and b.property_file:
+        if a is not None and b is not None and a.property_file != b.property_file and \
+                b.property_file:
             path = database_file(b.property_file, sub)
             read.append(path)
             other = read_bushing(path).stiffness
@@ -199,8 +197,7 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
             if diff:
                 over[name] = {"stiffness": diff}
                 continue
-        if name in props:
-            over.pop(name, None)
+        over.pop(name, None)
     return read
 
 
@@ -231,12 +228,8 @@ def _section_files(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source:
     for p in props.values():
         warnings += p.warnings
     cfg = apply_bushings(cfg, props, source)
-    if "axle" in cfg:
-        _other_side_hardpoints(cfg, points, m)
-        files = [*files.values(), *_other_side_bushings(cfg, sub, m, props)]
-    else:
-        files = list(files.values())
-    return cfg, files
+    _other_side_hardpoints(cfg, points, m)
+    return cfg, [*files.values(), *_other_side_bushings(cfg, sub, m)]
 
 
 def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str | Path,
@@ -259,8 +252,7 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
     if "axle" in cfg:
         cfg["axle"] = dict(cfg["axle"] or {})
         _other_side_hardpoints(cfg, read_hardpoints(files.suspension), mapping)
-        props = {n: None for n in mapping.bushing_usage}
-        read += _other_side_bushings(cfg, files.suspension, mapping, props)
+        read += _other_side_bushings(cfg, files.suspension, mapping)
     for section in ("anti_roll_bar", "steering"):
         m = sections.get(section)
         if m is None:
