@@ -17,6 +17,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -119,6 +120,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
     those found by name. Of several subsystems of one role, the one of ``minor_role`` (front,
     rear) is taken."""
     found: dict[str, list[tuple[Path, str | None]]] = {}
+    role = cache(subsystem_role)  # each file read once
     what = str(assembly or hardpoints)
     listed: list[tuple[Path, str]] = []
     if assembly is not None:
@@ -131,7 +133,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
     if hardpoints is not None:
         main = subsystem_file(hardpoints, mapping.subsystem.get("name"))
         found["suspension"] = [(main, minor_role)]
-        given = {subsystem_role(p)[0] for p, _ in listed}
+        given = {role(p)[0] for p, _ in listed}
         for section, m in mapping.sections().items():
             # the mapping's other subsystems beside the suspension's, unless given
             path = main.parent / f"{m.subsystem.get('name')}.sub"
@@ -139,7 +141,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
             if section != "suspension" and major not in given and path.is_file():
                 listed.append((path, str(hardpoints)))
     for path, where in listed:
-        major, minor = subsystem_role(path)
+        major, minor = role(path)
         section = ROLE_SECTIONS.get(major or "suspension")
         if section is None:
             if assembly is None:
