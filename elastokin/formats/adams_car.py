@@ -35,7 +35,7 @@ from elastokin.formats.adams_mapping import (
 )
 from elastokin.formats.teimorbit import Units, read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
-from elastokin.physics.laws import DirectionLaw
+from elastokin.physics.laws import DirectionLaw, law_from_spec
 
 __all__ = [
     "BUSHING_CURVES",
@@ -96,12 +96,7 @@ class BushingProperties:
     akima: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def laws(self) -> tuple[DirectionLaw, ...]:
-        out = []
-        for d in BUSHING_DIRECTIONS:
-            v = self.stiffness[d]
-            out.append(DirectionLaw.linear(v) if isinstance(v, (int, float))
-                       else DirectionLaw(tuple(v["deflection"]), tuple(v["load"])))
-        return tuple(out)
+        return tuple(law_from_spec(self.stiffness[d]) for d in BUSHING_DIRECTIONS)
 
     def interpolation_note(self) -> str:
         """One line: how far ADAMS' Akima interpolation is from elastokin's law."""

@@ -42,7 +42,7 @@ from elastokin.formats.adams_car import (
 from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
 from elastokin.formats.teimorbit import read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
-from elastokin.physics.laws import DirectionLaw
+from elastokin.physics.laws import law_from_spec
 
 __all__ = [
     "ROLE_SECTIONS",
@@ -195,7 +195,7 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Pa
             other = read_bushing(path).stiffness
             this = cfg["connections"][name]["stiffness"]
             diff = {d: copy.deepcopy(other[d]) for d in BUSHING_DIRECTIONS
-                    if _mirrored(this[d], d) != _law(other[d])}
+                    if _mirrored(this[d], d) != law_from_spec(other[d])}
             if diff:
                 over[name] = {"stiffness": diff}
                 continue
@@ -203,15 +203,8 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Pa
     return read
 
 
-def _law(spec) -> DirectionLaw:
-    """The law of a config ``stiffness`` entry: a rate, or ``{deflection, load}``."""
-    if isinstance(spec, (int, float)):
-        return DirectionLaw.linear(float(spec))
-    return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
-
-
 def _mirrored(spec, direction: str):
-    law = _law(spec)
+    law = law_from_spec(spec)
     flipped = BUSHING_DIRECTIONS.index(direction) in MIRRORED_DIRECTIONS
     return reflected_law(law) if flipped else law
 
