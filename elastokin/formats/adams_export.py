@@ -71,6 +71,14 @@ def export_timestamp() -> str:
     return time.strftime("%Y/%m/%d,%H:%M:%S", time.gmtime(t))
 
 
+def _shared_template(template: str) -> str:
+    """A bare template name (``_double_wishbone``, ``.tpl`` or not) as the one in
+    ``acar_shared``; a path as given."""
+    if "/" in template or "\\" in template:
+        return template
+    return f"mdids://acar_shared/templates.tbl/{template.removesuffix('.tpl')}.tpl"
+
+
 def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
                    database: str | None = None, template: str | None = None,
                    major_role: str | None = None, minor_role: str | None = None,
@@ -84,14 +92,14 @@ def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
     name = safe_name(sub.get("name") or s.name)
     db = safe_name(database or sub.get("database") or name)
     tpl = template or sub.get("template")
-    if not tpl:
+    if tpl:
+        tpl = _shared_template(tpl)
+    else:
         tpl = f"mdids://{db}/templates.tbl/_{name}.tpl"
         if warnings is not None:
             warnings.append(f"no template given (export-adams --template-name, or "
                             f"'subsystem: template' in the mapping file): the subsystem names "
                             f"{tpl}, which ADAMS/Car needs to open it")
-    elif "/" not in tpl and "\\" not in tpl:
-        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
     position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle else "front"
     return SubsystemSpec(name, tpl, major_role or sub.get("major_role") or "suspension",
                          minor_role or sub.get("minor_role") or position, db)
@@ -118,9 +126,7 @@ def section_spec(s: Suspension, mapping: AdamsMapping | None, role: str,
     section = getattr(mapping, role, None) if mapping else None
     sub = section.subsystem if section else {}
     major, template = AXLE_ROLES[role]
-    tpl = sub.get("template") or template
-    if "/" not in tpl and "\\" not in tpl:
-        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
+    tpl = _shared_template(sub.get("template") or template)
     default = {"anti_roll_bar": "antiroll", "steering": "steering"}[role]
     return SubsystemSpec(safe_name(sub.get("name") or f"{suspension.name}_{default}"), tpl,
                          sub.get("major_role") or major,
