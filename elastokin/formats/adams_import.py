@@ -28,15 +28,11 @@ from elastokin.formats.adams_assemblies import read_bushing_assemblies
 from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
 from elastokin.formats.adams_car import (
     adams_to_config,
-    apply_bushings,
-    apply_hardpoints,
-    bushing_sources,
     clean,
     database_file,
-    import_adams,
+    import_subsystem,
     lookup_hardpoint,
     read_bushing,
-    read_hardpoints,
     subsystem_file,
 )
 from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
@@ -209,20 +205,16 @@ def _mirrored(spec, direction: str):
     return reflected_law(law) if flipped else law
 
 
-def _section_files(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
-                   warnings: list[str]) -> tuple[dict, list[Path]]:
-    """The hardpoints and bushings of one section's subsystem (both sides)."""
-    points = read_hardpoints(sub, warnings)
-    if m.hardpoints:
-        cfg, more = apply_hardpoints(cfg, points, m, source, warn_unmapped=False)
-        warnings += more
-    files = bushing_sources(sub, m, m.side or cfg["side"],
-                            {k: v for k, v in (bushing_files or {}).items()
-                             if k in m.bushings or k in m.bushing_usage})
-    props = {n: read_bushing(f) for n, f in files.items()}
-    for p in props.values():
-        warnings += p.warnings
-    cfg = apply_bushings(cfg, props, source)
+def _import_section(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
+                    warnings: list[str], warn_unmapped: bool = False
+                    ) -> tuple[dict, list[Path]]:
+    """The hardpoints and bushings of one section's subsystem, on an axle both sides (the
+    other side's as ``axle.other_side`` overrides). Returns (config, the files read)."""
+    cfg, points, files = import_subsystem(cfg, sub, m, bushing_files, source, warnings,
+                                          warn_unmapped)
+    if "axle" not in cfg:
+        return cfg, list(files.values())
+    cfg["axle"] = dict(cfg["axle"] or {})
     _other_side_hardpoints(cfg, points, m)
     return cfg, [*files.values(), *_other_side_bushings(cfg, sub, m)]
 
@@ -235,19 +227,15 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
     section of the mapping file, and on an axle its other side, anti-roll bar and steering.
     Returns (config, warnings, the property and curve files read). Not yet validated."""
     mapping = read_mapping(mapping_file)
-    cfg, warnings = import_adams(template, files.suspension, mapping_file, bushing_files,
-                                 source)
-    read = list(bushing_sources(files.suspension, mapping, mapping.side or cfg["side"],
-                                bushing_files).values())
+    warnings: list[str] = []
+    # every bushing file given is taken in the suspension's step; a section's again in its own
+    cfg, read = _import_section(template, files.suspension, mapping, bushing_files, source,
+                                warnings, warn_unmapped=True)
     sections = mapping.sections()
     if "axle" not in cfg and len(sections) > 1:
         keys = ", ".join(k for k in sections if k != "suspension")
         raise ConfigError(f"{mapping.path}: keys {keys}: {source} is a corner (no 'axle' "
                           "section)")
-    if "axle" in cfg:
-        cfg["axle"] = dict(cfg["axle"] or {})
-        _other_side_hardpoints(cfg, read_hardpoints(files.suspension), mapping)
-        read += _other_side_bushings(cfg, files.suspension, mapping)
     for section in ("anti_roll_bar", "steering"):
         m = sections.get(section)
         if m is None:
@@ -264,7 +252,9 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
         if not (cfg.get("axle") or {}).get(section):
             raise ConfigError(f"{mapping.path}: key '{section}': {source} has no "
                               f"axle.{section} to take it")
-        cfg, more = _section_files(cfg, sub, m, bushing_files, source, warnings)
+        given = {k: v for k, v in (bushing_files or {}).items()
+                 if k in m.bushings or k in m.bushing_usage}
+        cfg, more = _import_section(cfg, sub, m, given, source, warnings)
         read += more
         read += _section_values(cfg, section, sub, m)
     _tidy(cfg)
