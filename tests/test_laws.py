@@ -2,7 +2,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.physics.laws import DirectionLaw
+from elastokin.config.schema_base import CurveSpec
+from elastokin.physics.laws import DirectionLaw, law_from_spec
 
 
 def progressive():
@@ -51,3 +52,13 @@ def test_scaled_law_scales_loads_only():
 def test_bad_curves_are_rejected(deflection, load):
     with pytest.raises(ValueError):
         DirectionLaw(deflection, load)
+
+
+def test_law_from_a_rate_a_curve_spec_and_a_config_dict():
+    """A config entry as validated (CurveSpec) and as read (a dict) gives the same law."""
+    curve = {"deflection": [-4.0, -2.0, 0.0, 2.0, 4.0], "load": [-3000.0, -800.0, 0.0, 800.0,
+                                                                   3000.0]}
+    assert law_from_spec(curve) == law_from_spec(CurveSpec(**curve)) == progressive()
+    assert law_from_spec(300) == law_from_spec(300.0) == DirectionLaw.linear(300.0)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        law_from_spec({"deflection": [0.0, 1.0, 1.0], "load": [0.0, 1.0, 2.0]})

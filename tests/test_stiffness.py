@@ -234,6 +234,7 @@ def test_residual_weighting_recovers_the_truth_with_curves_of_different_noise(co
                                        residual_scale_deg=1e-4, residual_scale_mm=1e-3)
     fit = identify_stiffness(s, design, test, spec)
     assert fit.passes == 1 and not [w for w in fit.warnings if "converge" in w]
+    assert fit.to_json()["passes"] == fit.settings["passes"] == 1  # as the JSON has written it
     for p in fit.parameters:
         assert abs(p.value - HIDDEN[p.bushing][p.name]) <= 4 * p.std, p
         assert p.std < 0.01  # informative

@@ -25,6 +25,7 @@ from elastokin.formats.adams_property_files import (
     number,
     provenance,
     rule,
+    table_lines,
 )
 from elastokin.formats.adams_subsystem import ParameterRow, SubsystemSpec
 from elastokin.physics.laws import DirectionLaw
@@ -194,9 +195,7 @@ def curve_file_text(s: Suspension, role: str) -> str:
     lines = [provenance(s), f"$ {what}; elastokin's piecewise-linear law through these points",
              *header_lines("crv", 1.0, [f"elastokin {role} curve of {s.name}"]),
              rule("UNITS"), *UNITS_LINES, rule("CURVE"), "[CURVE]",
-             "{" + columns[0].rjust(21) + columns[1].rjust(24) + "}"]
-    lines += [" " + number(a).rjust(21) + number(b).rjust(24)
-              for a, b in zip(law.deflection, law.load)]
+             *table_lines(columns, law.deflection, law.load)]
     return "\n".join(lines) + "\n"
 
 

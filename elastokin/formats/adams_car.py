@@ -35,7 +35,7 @@ from elastokin.formats.adams_mapping import (
 )
 from elastokin.formats.teimorbit import Units, read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
-from elastokin.physics.laws import DirectionLaw
+from elastokin.physics.laws import DirectionLaw, law_from_spec
 
 __all__ = [
     "BUSHING_CURVES",
@@ -53,6 +53,7 @@ __all__ = [
     "database_file",
     "frame_signs",
     "import_adams",
+    "import_subsystem",
     "lookup_hardpoint",
     "read_bushing",
     "read_bushing_assemblies",
@@ -96,12 +97,7 @@ class BushingProperties:
     akima: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def laws(self) -> tuple[DirectionLaw, ...]:
-        out = []
-        for d in BUSHING_DIRECTIONS:
-            v = self.stiffness[d]
-            out.append(DirectionLaw.linear(v) if isinstance(v, (int, float))
-                       else DirectionLaw(tuple(v["deflection"]), tuple(v["load"])))
-        return tuple(out)
+        return tuple(law_from_spec(self.stiffness[d]) for d in BUSHING_DIRECTIONS)
 
     def interpolation_note(self) -> str:
         """One line: how far ADAMS' Akima interpolation is from elastokin's law."""
@@ -473,12 +469,24 @@ def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str 
     mapping = read_mapping(mapping_file)
     sub = subsystem_file(hardpoints_file, mapping.subsystem.get("name"))
     warnings: list[str] = []
-    points = read_hardpoints(sub, warnings)
-    cfg, more = apply_hardpoints(template, points, mapping, source)
+    cfg, _, _ = import_subsystem(template, sub, mapping, bushing_files, source, warnings)
+    return cfg, warnings
+
+
+def import_subsystem(config: dict, subsystem: str | Path, mapping: AdamsMapping,
+                     bushing_files: Mapping[str, str | Path] | None, source: str,
+                     warnings: list[str], warn_unmapped: bool = True
+                     ) -> tuple[dict, dict[str, AdamsHardpoint], dict[str, Path]]:
+    """A copy of ``config`` with the hardpoints ``mapping`` names taken from the subsystem file
+    (:func:`apply_hardpoints`) and the stiffness of its bushings from their property files
+    (:func:`bushing_sources`, on the mapping's side, else the config's). What was read
+    tolerantly, and with ``warn_unmapped`` the hardpoints no section maps, is appended to
+    ``warnings``. Returns (config, the subsystem's hardpoint table, each bushing's file)."""
+    points = read_hardpoints(subsystem, warnings)
+    cfg, more = apply_hardpoints(config, points, mapping, source, warn_unmapped)
     warnings += more
-    files = bushing_sources(sub, mapping, mapping.side or template.get("side") or "left",
-                            bushing_files)
+    files = bushing_sources(subsystem, mapping, mapping.side or cfg["side"], bushing_files)
     props = {name: read_bushing(file) for name, file in files.items()}
     for p in props.values():
         warnings += p.warnings
-    return apply_bushings(cfg, props, source), warnings
+    return apply_bushings(cfg, props, source), points, files

@@ -71,6 +71,14 @@ def export_timestamp() -> str:
     return time.strftime("%Y/%m/%d,%H:%M:%S", time.gmtime(t))
 
 
+def _shared_template(template: str) -> str:
+    """A bare template name (``_double_wishbone``, ``.tpl`` or not) as the one in
+    ``acar_shared``; a path as given."""
+    if "/" in template or "\\" in template:
+        return template
+    return f"mdids://acar_shared/templates.tbl/{template.removesuffix('.tpl')}.tpl"
+
+
 def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
                    database: str | None = None, template: str | None = None,
                    major_role: str | None = None, minor_role: str | None = None,
@@ -84,14 +92,14 @@ def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
     name = safe_name(sub.get("name") or s.name)
     db = safe_name(database or sub.get("database") or name)
     tpl = template or sub.get("template")
-    if not tpl:
+    if tpl:
+        tpl = _shared_template(tpl)
+    else:
         tpl = f"mdids://{db}/templates.tbl/_{name}.tpl"
         if warnings is not None:
             warnings.append(f"no template given (export-adams --template-name, or "
                             f"'subsystem: template' in the mapping file): the subsystem names "
                             f"{tpl}, which ADAMS/Car needs to open it")
-    elif "/" not in tpl and "\\" not in tpl:
-        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
     position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle else "front"
     return SubsystemSpec(name, tpl, major_role or sub.get("major_role") or "suspension",
                          minor_role or sub.get("minor_role") or position, db)
@@ -118,9 +126,7 @@ def section_spec(s: Suspension, mapping: AdamsMapping | None, role: str,
     section = getattr(mapping, role, None) if mapping else None
     sub = section.subsystem if section else {}
     major, template = AXLE_ROLES[role]
-    tpl = sub.get("template") or template
-    if "/" not in tpl and "\\" not in tpl:
-        tpl = f"mdids://acar_shared/templates.tbl/{tpl.removesuffix('.tpl')}.tpl"
+    tpl = _shared_template(sub.get("template") or template)
     default = {"anti_roll_bar": "antiroll", "steering": "steering"}[role]
     return SubsystemSpec(safe_name(sub.get("name") or f"{suspension.name}_{default}"), tpl,
                          sub.get("major_role") or major,
@@ -141,16 +147,21 @@ def _section(mapping: AdamsMapping | None, role: str) -> AdamsMapping | None:
 
 
 def _parameters(s: Suspension, role: str, mapping: AdamsMapping | None):
-    """(the [PARAMETER] rows, the curve file (None: none)) of a subsystem."""
+    """A subsystem's [PARAMETER] rows and its section's keys in the mapping file written: the
+    parameter names (the mapping's, else the defaults) and, for a nonlinear bar or rack
+    ratio, ``curve``: the curve file."""
     if role == "suspension":
-        return [], None
+        return [], {}
     section = getattr(mapping, role, None) if mapping else None
-    names = section.parameters if section else dict(PARAMETER_KEYS[role])
+    keys = dict(section.parameters if section else PARAMETER_KEYS[role])
     raw = s.raw["axle"][role]
     curve = None if raw.get("curve") is None and raw.get("ratio_curve") is None else \
         f"curves.tbl/{role}.crv"
     make = arb_parameters if role == "anti_roll_bar" else steering_parameters
-    return make(s, names, curve), curve
+    rows = make(s, keys, curve)
+    if curve is not None:
+        keys["curve"] = curve
+    return rows, keys
 
 
 def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
@@ -234,26 +245,22 @@ def export_adams(s: Suspension, out_dir: str | Path,
     springs = _usages(parts["suspension"].springs, mapping.spring_usage if mapping else {},
                       "springs", source)
     stamp = timestamp or export_timestamp()
-    files, bus_files, curves, written, extra = {}, {}, {}, {}, {}
+    files, bus_files, written, extra = {}, {}, {}, {}
     for role, part in parts.items():
         sp = specs[role]
         rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints)
         brows, more = bushing_rows(s, sp, part.bushings, usages, preload)
         bus_files.update(more)
-        params, curve = _parameters(s, role, mapping)
-        if role != "suspension":
-            section = getattr(mapping, role, None) if mapping else None
-            extra[role] = dict(section.parameters if section else PARAMETER_KEYS[role])
-            if curve is not None:
-                curves[curve], extra[role]["curve"] = role, curve
+        params, extra[role] = _parameters(s, role, mapping)
         files[f"subsystems.tbl/{sp.name}.sub"] = subsystem_text(
             s, sp, rows, brows, spring_rows(s, sp, part.springs, springs, force), stamp, params)
     for file, name in bus_files.items():
         files[f"bushings.tbl/{file}"] = bushing_file_text(s, name, range_mm, range_deg)
     for name in parts["suspension"].springs:
         files[f"springs.tbl/{springs[name]}.spr"] = spring_file_text(s, name, force.get(name))
-    for file, role in curves.items():
-        files[file] = curve_file_text(s, role)
+    for role, keys in extra.items():
+        if "curve" in keys:
+            files[keys["curve"]] = curve_file_text(s, role)
     if len(parts) > 1:
         files[f"assemblies.tbl/{spec.name}.asy"] = assembly_text(s, specs, stamp)
     files["mapping.yaml"] = mapping_text(

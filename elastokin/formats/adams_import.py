@@ -17,6 +17,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -26,23 +27,18 @@ from elastokin.errors import ConfigError
 from elastokin.formats.adams_assemblies import read_bushing_assemblies
 from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
 from elastokin.formats.adams_car import (
-    BushingProperties,
     adams_to_config,
-    apply_bushings,
-    apply_hardpoints,
-    bushing_sources,
     clean,
     database_file,
-    import_adams,
+    import_subsystem,
     lookup_hardpoint,
     read_bushing,
-    read_hardpoints,
     subsystem_file,
 )
 from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
 from elastokin.formats.teimorbit import read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
-from elastokin.physics.laws import DirectionLaw
+from elastokin.physics.laws import law_from_spec
 
 __all__ = [
     "ROLE_SECTIONS",
@@ -120,6 +116,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
     those found by name. Of several subsystems of one role, the one of ``minor_role`` (front,
     rear) is taken."""
     found: dict[str, list[tuple[Path, str | None]]] = {}
+    role = cache(subsystem_role)  # each file read once
     what = str(assembly or hardpoints)
     listed: list[tuple[Path, str]] = []
     if assembly is not None:
@@ -132,7 +129,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
     if hardpoints is not None:
         main = subsystem_file(hardpoints, mapping.subsystem.get("name"))
         found["suspension"] = [(main, minor_role)]
-        given = {subsystem_role(p)[0] for p, _ in listed}
+        given = {role(p)[0] for p, _ in listed}
         for section, m in mapping.sections().items():
             # the mapping's other subsystems beside the suspension's, unless given
             path = main.parent / f"{m.subsystem.get('name')}.sub"
@@ -140,7 +137,7 @@ def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
             if section != "suspension" and major not in given and path.is_file():
                 listed.append((path, str(hardpoints)))
     for path, where in listed:
-        major, minor = subsystem_role(path)
+        major, minor = role(path)
         section = ROLE_SECTIONS.get(major or "suspension")
         if section is None:
             if assembly is None:
@@ -176,8 +173,7 @@ def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
             over[name] = [clean(v) for v in q]
 
 
-def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
-                         props: Mapping[str, BushingProperties]) -> list[Path]:
+def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Path]:
     """Where a bushing's ``right`` and ``left`` blocks name different property files: the
     other side's laws, as ``axle.other_side.connections`` overrides of the directions that
     are not the mirror of the config side's. Returns the files read."""
@@ -188,55 +184,39 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
     for name, usage in mapping.bushing_usage.items():
         sides = blocks.get(usage, {})
         a, b = sides.get(side), sides.get(other_side(side))
-        if name in props and a is not None and b is not None and \
-                a.property_file != b.property_file and b.property_file:
+        if a is not None and b is not None and a.property_file != b.property_file and \
+                b.property_file:
             path = database_file(b.property_file, sub)
             read.append(path)
             other = read_bushing(path).stiffness
             this = cfg["connections"][name]["stiffness"]
             diff = {d: copy.deepcopy(other[d]) for d in BUSHING_DIRECTIONS
-                    if _mirrored(this[d], d) != _law(other[d])}
+                    if _mirrored(this[d], d) != law_from_spec(other[d])}
             if diff:
                 over[name] = {"stiffness": diff}
                 continue
-        if name in props:
-            over.pop(name, None)
+        over.pop(name, None)
     return read
 
 
-def _law(spec) -> DirectionLaw:
-    """The law of a config ``stiffness`` entry: a rate, or ``{deflection, load}``."""
-    if isinstance(spec, (int, float)):
-        return DirectionLaw.linear(float(spec))
-    return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
-
-
 def _mirrored(spec, direction: str):
-    law = _law(spec)
+    law = law_from_spec(spec)
     flipped = BUSHING_DIRECTIONS.index(direction) in MIRRORED_DIRECTIONS
     return reflected_law(law) if flipped else law
 
 
-def _section_files(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
-                   warnings: list[str]) -> tuple[dict, list[Path]]:
-    """The hardpoints and bushings of one section's subsystem (both sides)."""
-    points = read_hardpoints(sub, warnings)
-    if m.hardpoints:
-        cfg, more = apply_hardpoints(cfg, points, m, source, warn_unmapped=False)
-        warnings += more
-    files = bushing_sources(sub, m, m.side or cfg["side"],
-                            {k: v for k, v in (bushing_files or {}).items()
-                             if k in m.bushings or k in m.bushing_usage})
-    props = {n: read_bushing(f) for n, f in files.items()}
-    for p in props.values():
-        warnings += p.warnings
-    cfg = apply_bushings(cfg, props, source)
-    if "axle" in cfg:
-        _other_side_hardpoints(cfg, points, m)
-        files = [*files.values(), *_other_side_bushings(cfg, sub, m, props)]
-    else:
-        files = list(files.values())
-    return cfg, files
+def _import_section(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
+                    warnings: list[str], warn_unmapped: bool = False
+                    ) -> tuple[dict, list[Path]]:
+    """The hardpoints and bushings of one section's subsystem, on an axle both sides (the
+    other side's as ``axle.other_side`` overrides). Returns (config, the files read)."""
+    cfg, points, files = import_subsystem(cfg, sub, m, bushing_files, source, warnings,
+                                          warn_unmapped)
+    if "axle" not in cfg:
+        return cfg, list(files.values())
+    cfg["axle"] = dict(cfg["axle"] or {})
+    _other_side_hardpoints(cfg, points, m)
+    return cfg, [*files.values(), *_other_side_bushings(cfg, sub, m)]
 
 
 def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str | Path,
@@ -247,20 +227,15 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
     section of the mapping file, and on an axle its other side, anti-roll bar and steering.
     Returns (config, warnings, the property and curve files read). Not yet validated."""
     mapping = read_mapping(mapping_file)
-    cfg, warnings = import_adams(template, files.suspension, mapping_file, bushing_files,
-                                 source)
-    read = list(bushing_sources(files.suspension, mapping, mapping.side or cfg["side"],
-                                bushing_files).values())
+    warnings: list[str] = []
+    # every bushing file given is taken in the suspension's step; a section's again in its own
+    cfg, read = _import_section(template, files.suspension, mapping, bushing_files, source,
+                                warnings, warn_unmapped=True)
     sections = mapping.sections()
     if "axle" not in cfg and len(sections) > 1:
         keys = ", ".join(k for k in sections if k != "suspension")
         raise ConfigError(f"{mapping.path}: keys {keys}: {source} is a corner (no 'axle' "
                           "section)")
-    if "axle" in cfg:
-        cfg["axle"] = dict(cfg["axle"] or {})
-        _other_side_hardpoints(cfg, read_hardpoints(files.suspension), mapping)
-        props = {n: None for n in mapping.bushing_usage}
-        read += _other_side_bushings(cfg, files.suspension, mapping, props)
     for section in ("anti_roll_bar", "steering"):
         m = sections.get(section)
         if m is None:
@@ -277,7 +252,9 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
         if not (cfg.get("axle") or {}).get(section):
             raise ConfigError(f"{mapping.path}: key '{section}': {source} has no "
                               f"axle.{section} to take it")
-        cfg, more = _section_files(cfg, sub, m, bushing_files, source, warnings)
+        given = {k: v for k, v in (bushing_files or {}).items()
+                 if k in m.bushings or k in m.bushing_usage}
+        cfg, more = _import_section(cfg, sub, m, given, source, warnings)
         read += more
         read += _section_values(cfg, section, sub, m)
     _tidy(cfg)

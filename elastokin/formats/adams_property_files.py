@@ -14,6 +14,7 @@ Conventions: ``docs/adams.md``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from elastokin.config.suspension import Suspension
 from elastokin.formats.adams_car import BUSHING_CURVES, clean
@@ -31,6 +32,7 @@ __all__ = [
     "provenance",
     "rule",
     "spring_file_text",
+    "table_lines",
 ]
 
 #: the ``[UNITS]`` block of every exported file, as ADAMS/Car writes it
@@ -85,7 +87,10 @@ def curve_points(law: DirectionLaw, half_range: float) -> tuple[list[float], lis
     return u, f
 
 
-def _table(columns: tuple[str, str], u: list[float], f: list[float]) -> list[str]:
+def table_lines(columns: tuple[str, str], u: Sequence[float], f: Sequence[float]
+                ) -> list[str]:
+    """The lines of a curve table ``{u f}`` (header ``columns``), a row per point, numbers as
+    :func:`number`, right-aligned to columns 22 and 46."""
     lines = ["{" + columns[0].rjust(21) + columns[1].rjust(24) + "}"]
     return lines + [" " + number(a).rjust(21) + number(c).rjust(24) for a, c in zip(u, f)]
 
@@ -99,7 +104,7 @@ def bushing_file_text(s: Suspension, bushing: str, range_mm: float = 10.0,
     curves, notes = [], []
     for (direction, name, columns), law in zip(BUSHING_CURVES, b.laws):
         u, f = curve_points(law, range_mm if direction in ("x", "y", "z") else range_deg)
-        curves += [rule(name), f"[{name}]", *_table(columns, u, f)]
+        curves += [rule(name), f"[{name}]", *table_lines(columns, u, f)]
         dev, at = akima_deviation(u, f)
         if dev > 1e-9 * max(abs(v) for v in f):
             unit = ("N", "mm") if direction in ("x", "y", "z") else ("N*mm", "deg")
@@ -143,6 +148,6 @@ def spring_file_text(s: Suspension, spring: str, force_N: float | None = None,
              *header_lines("spr", 4.0, [f"elastokin spring {sp.name} of {s.name}"]),
              rule("UNITS"), *UNITS_LINES, rule("SPRING_DATA"), "[SPRING_DATA]",
              key_line("FREE_LENGTH", clean(round(free, 9)), 11),
-             rule("CURVE"), "[CURVE]", *_table(("disp", "force"), u,
-                                              [sp.rate_N_per_mm * x for x in u])]
+             rule("CURVE"), "[CURVE]",
+             *table_lines(("disp", "force"), u, [sp.rate_N_per_mm * x for x in u])]
     return "\n".join(lines) + "\n"

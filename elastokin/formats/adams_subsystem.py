@@ -115,17 +115,14 @@ def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
     return adams, side or (mapping.side if mapping and mapping.side else default_side)
 
 
-def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None,
-                   names: tuple[str, ...] | None = None
+def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str, ...]
                    ) -> tuple[list[HardpointRow], dict[str, tuple[str, str]]]:
-    """The ``[HARDPOINT]`` rows of a suspension's hardpoints ``names`` (default: all; the
-    corner's names on an axle: their other-side copies are written with them) in the ADAMS
-    frame and, per elastokin hardpoint, the (ADAMS name, side) it was written as. Two points
-    on one ADAMS hardpoint and side must be the same point (ConfigError otherwise)."""
+    """The ``[HARDPOINT]`` rows of a suspension's hardpoints ``names`` (the corner's names on
+    an axle: their other-side copies are written with them) in the ADAMS frame and, per
+    elastokin hardpoint, the (ADAMS name, side) it was written as. Two points on one ADAMS
+    hardpoint and side must be the same point (ConfigError otherwise)."""
     per: dict[str, dict[str, tuple[np.ndarray, list[str]]]] = {}
     written = {}
-    if names is None:
-        names = tuple(s.hardpoints if s.axle is None else s.raw["hardpoints"])
     for name in names:
         adams, side = adams_name(mapping, name, s.side)
         entries = [(name, side)]

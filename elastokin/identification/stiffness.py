@@ -313,16 +313,15 @@ def _moved(sweep: Sweep, j: int, h: float) -> Sweep:
 @dataclass
 class FitOutcome:
     """Where the fit ended: the parameters ``x`` (optimisation variables), the weighted
-    residuals and Jacobian there, the sweeps, the history of the curve scales, the passes
-    made, the optimizer's status message and warnings (a fit that stopped early keeps its
-    last good point)."""
+    residuals and Jacobian there, the sweeps, the history of the curve scales, the
+    optimizer's status message and warnings (a fit that stopped early keeps its last good
+    point)."""
 
     x: np.ndarray
     fun: np.ndarray
     jac: np.ndarray
     sweeps: list[Sweep]
     reweighting: list[dict]
-    passes: int
     status: str
     warnings: list[str]
 
@@ -382,7 +381,7 @@ def _likelihood_fit(res: Residuals, runs: FitRuns, x, bounds, size, tolerances
 
 def _outcome(runs: FitRuns, x, history, status, warnings) -> FitOutcome:
     fun, jac, sweeps = runs.evaluate(x)  # weighted with the final curve scales
-    return FitOutcome(x, fun, jac, sweeps, history, 1, status, warnings)
+    return FitOutcome(x, fun, jac, sweeps, history, status, warnings)
 
 
 def _stopped(runs: FitRuns, history, why: str, x=None) -> FitOutcome:
@@ -459,7 +458,7 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
         errors_after=model_errors(after_sweeps, test),
         residual_count=int(r0.size), effective_residual_count=m_eff,
         evaluations=res.evaluations, status=fit.status, warnings=warnings,
-        hidden=hidden_comparison(results, values, reach, hidden), passes=fit.passes,
+        hidden=hidden_comparison(results, values, reach, hidden),
         settings={"method": (
                       "maximum likelihood (an unknown error level per curve, trust-region "
                       "Gauss-Newton, elastokin.identification.likelihood)"
@@ -468,6 +467,6 @@ def identify_stiffness(suspension: Suspension, design: DesignState, test: list[S
                       "(sensitivities of every step, elastokin.mbs.sensitivity; parameter step "
                       f"{PARAMETER_STEP})",
                   "ftol": ftol, "xtol": xtol, "max_iterations": max_iterations,
-                  "workers": workers, "passes": fit.passes, "reweighting": fit.reweighting,
+                  "workers": workers, "passes": 1, "reweighting": fit.reweighting,
                   "curve_scales": {f"{case}.{c}": v for (case, c), v in res.scale.items()},
                   **spec.model_dump()})

@@ -63,7 +63,7 @@ class StiffnessFit:
     status: str
     warnings: list[str] = field(default_factory=list)
     hidden: dict = field(default_factory=dict)  # synthetic data: fitted against the truth
-    passes: int = 1  # least-squares fits made (weighting "residual": one per curve scaling)
+    passes: int = 1  # fits made: always 1 (earlier versions made one per curve scaling)
     settings: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:

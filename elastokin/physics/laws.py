@@ -17,6 +17,7 @@ parameters and evaluated exactly (no tabulation).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -187,8 +188,10 @@ class ProgressiveLaw:
 
 
 def law_from_spec(spec) -> DirectionLaw:
-    """A law from a config entry: a positive number (rate) or an object with
-    ``deflection`` and ``load`` lists."""
+    """A law from a config entry: a positive number (rate), or ``deflection`` and ``load``
+    lists (an object's attributes, or a mapping's keys as in a config dict)."""
     if isinstance(spec, (int, float)):
         return DirectionLaw.linear(float(spec))
+    if isinstance(spec, Mapping):
+        return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
     return DirectionLaw(tuple(spec.deflection), tuple(spec.load))
