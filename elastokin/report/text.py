@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from elastokin.rig.channels import CHARACTERISTICS
+from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTICS, display_unit
 
 
 def fixed(value: float, decimals: int) -> str:
@@ -78,10 +78,11 @@ def kc_table(summary: dict, out_dir: Path) -> str:
 
 
 #: the axle's figures the K&C table shows (summary.json "axle" has them all): key, label, format
+#: (of the figure in the unit the report shows: :func:`~elastokin.rig.channels.display_unit`)
 AXLE_FIGURES = (
     ("roll_centre_height_mm", "roll centre height, kinematic mm", ".1f"),
     ("roll_centre_height_force_based_mm", "roll centre height, force-based mm", ".1f"),
-    ("roll_stiffness_Nmm_per_deg", "roll stiffness N*m/deg", "scaled"),
+    ("roll_stiffness_Nmm_per_deg", "roll stiffness N*m/deg", ".1f"),
     ("anti_roll_bar_share", "anti-roll bar share -", ".3f"),
     ("axle_roll_steer_deg_per_deg", "roll steer deg/deg", ".4f"),
     ("roll_camber_left_deg_per_deg", "roll camber (left) deg/deg", ".4f"),
@@ -105,8 +106,8 @@ def axle_lines(models: dict) -> list[str]:
         values = [a.get(key) for a in axles.values()]
         if all(v is None for v in values):
             continue
-        cells = ["-" if v is None else format(v / 1000.0, ".1f") if fmt == "scaled"
-                 else format(v, fmt) for v in values]
+        factor = display_unit(AXLE_CHARACTERISTICS[key].unit)[1]
+        cells = ["-" if v is None else format(v * factor, fmt) for v in values]
         out.append(f"  {label:<36}" + "".join(f"{c:>22}" for c in cells))
     return out
 
