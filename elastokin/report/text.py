@@ -169,6 +169,13 @@ def identification_table(ident) -> str:
     return "\n".join(out) + "\n"
 
 
+def characteristic_label(name: str) -> str:
+    """A characteristic's label and unit from the channel table (units as in summary.json;
+    the name itself when the table has none): a DOE table's row, a DOE chart's axis."""
+    c = CHARACTERISTICS.get(name)
+    return name if c is None else f"{c.label} [{c.unit}]"
+
+
 def doe_table(doc: dict, out_dir: Path) -> str:
     """A DOE study's characteristics (nominal, mean, std, p05, p95) and sensitivity."""
     s = doc["steer_amplitude_deg"]
@@ -182,10 +189,8 @@ def doe_table(doc: dict, out_dir: Path) -> str:
         return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
 
     for name, st in doc["characteristics"].items():
-        c = CHARACTERISTICS.get(name)
-        text = name if c is None else f"{c.label} [{c.unit}]"
-        lines.append(f"  {text:<48}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
-                     f"{num(st['p05'])}{num(st['p95'])}")
+        lines.append(f"  {characteristic_label(name):<48}{num(nominal.get(name))}"
+                     f"{num(st['mean'])}{num(st['std'])}{num(st['p05'])}{num(st['p95'])}")
     sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
     if sens and s["n"]:
         ranked = sorted(sens, key=lambda k: -sens[k])
