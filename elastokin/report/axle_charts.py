@@ -30,6 +30,7 @@ from elastokin.report.chart_canvas import (
     legend_height,
     residual_rms,
 )
+from elastokin.report.text import axle_models
 from elastokin.rig.channels import (
     AXLE_CHARACTERISTICS,
     LOAD_CASES,
@@ -131,8 +132,7 @@ def axle_chart_inputs(summary: dict) -> AxleChartInputs | None:
     if not axle:
         return None
     return AxleChartInputs(axle["config_side"], axle["track_mm"], axle.get("wheelbase_mm"),
-                           {m: v["axle"] for m, v in summary["models"].items()
-                            if v.get("axle")})
+                           axle_models(summary))
 
 
 @dataclass

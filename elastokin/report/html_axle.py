@@ -12,6 +12,7 @@ from pathlib import Path
 
 from elastokin.report.axle_charts import AXLE_CHARTS, axle_chart_caption
 from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.text import axle_models
 from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTIC_LIST, display_unit
 
 #: the named compliances' parts (elastokin.physics.axle_compliance.named_compliances)
@@ -27,11 +28,6 @@ RESPONSE_WORDS = {"toe": "toe (toe-in +)", "camber": "camber (top outboard +)",
                   "wheel_centre_y": "wheel-centre y (left +)"}
 PHASE_WORDS = {"in_phase": "in phase", "anti_phase": "anti-phase (+ on the left wheel)",
                "single": "this wheel alone"}
-
-
-def axle_models(summary: dict) -> dict[str, dict]:
-    """The models with axle figures: label -> ``models.<label>.axle``."""
-    return {m: v["axle"] for m, v in summary["models"].items() if v.get("axle")}
 
 
 def figure_cell(value, unit: str, fmt: str) -> str:

@@ -1,5 +1,6 @@
 """Console tables: what ``elastokin kc``, ``identify`` and ``doe`` print (plain text, units in
-the headers)."""
+the headers). No heavy import (no numpy, no matplotlib): the report's other modules take the
+summary's axle figures (:func:`axle_models`) and a characteristic's label from here."""
 
 from __future__ import annotations
 
@@ -59,7 +60,7 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
-    lines += axle_lines(summary["models"])
+    lines += axle_lines(summary)
     # summary["warnings"] are not repeated here: `elastokin kc` prints each once on stderr
     fit = summary.get("stiffness_identification")
     if fit:
@@ -94,9 +95,14 @@ AXLE_FIGURES = (
 )
 
 
-def axle_lines(models: dict) -> list[str]:
+def axle_models(summary: dict) -> dict[str, dict]:
+    """The models with axle figures: label -> ``models.<label>.axle`` (none on a corner)."""
+    return {m: v["axle"] for m, v in summary["models"].items() if v.get("axle")}
+
+
+def axle_lines(summary: dict) -> list[str]:
     """The axle's key figures, one row each, one column per model (none for a corner)."""
-    axles = {label: m["axle"] for label, m in models.items() if m.get("axle")}
+    axles = axle_models(summary)
     if not axles:
         return []
     out = ["", "Axle (both wheels; every figure and its definition: summary.json 'axle', "
