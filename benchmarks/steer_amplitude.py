@@ -23,8 +23,7 @@ import sys
 import time
 from pathlib import Path
 
-from tqdm import tqdm
-
+from elastokin.cli.kc import progress_bar
 from elastokin.config.loading import load_suspension
 from elastokin.mbs.model import EXUDYN_VERSION
 from elastokin.rig.characteristics import steer_amplitude_deg
@@ -47,11 +46,7 @@ def main() -> int:
 
     t0 = time.perf_counter()
     s = load_suspension(CONFIG)
-    with tqdm(total=9, file=sys.stderr, leave=False,
-              bar_format="{desc:<52} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]") as bar:
-        def progress(msg: str) -> None:
-            bar.set_description_str(msg)
-            bar.update(1)
+    with progress_bar(9) as progress:
         # the steer amplitudes need no stiffness fit
         run = run_kc(s, progress, models=["initial", "identified"])
         progress("synthetic real suspension: parallel travel")

@@ -116,7 +116,7 @@ def test_sensitivity_recovers_a_known_linear_ranking():
     assert res["joints"]["B"] == pytest.approx(1.25 / 10.25, abs=0.02)
     assert res["joints"]["C"] == pytest.approx(0.0, abs=1e-12)
     # SRC of a noiseless linear function: b_i std(x_i) / std(y), exactly
-    src, _ = doe_statistics.standardised_regression(X, y)
+    src = doe_statistics.standardised_regression(X, y).src
     expected = np.array([3, 0, 1, 0.5, 0]) * X.std(axis=0, ddof=1) / y.std(ddof=1)
     assert src == pytest.approx(expected, abs=1e-12)
     # too few samples for one regression on all 5 inputs: one regression per joint

@@ -28,9 +28,11 @@ def test_src_standard_error_of_one_regressor_by_hand():
     b, a = np.polyfit(x, y, 1)
     rss = float(np.sum((y - (a + b * x)) ** 2))
     se_b = np.sqrt(rss / 3) / np.sqrt(np.sum((x - x.mean()) ** 2))
-    [se] = doe_statistics.src_standard_errors(x[:, None], y)
+    [se] = doe_statistics.standardised_regression(x[:, None], y).src_standard_error
     assert se == pytest.approx(se_b * x.std(ddof=1) / y.std(ddof=1), rel=1e-12)
-    assert np.isinf(doe_statistics.src_standard_errors(x[:2, None], y[:2])).all()
+    # no standard error without a degree of freedom left: the regression refuses
+    with pytest.raises(ValueError, match="need at least 3"):
+        doe_statistics.standardised_regression(x[:2, None], y[:2])
 
 
 def test_too_few_samples_for_the_measure_is_a_warning():

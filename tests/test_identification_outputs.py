@@ -14,7 +14,7 @@ import yaml
 from click.testing import CliRunner
 
 from elastokin.cli.main import main
-from elastokin.config.loading import load_suspension
+from elastokin.config.loading import load_suspension, relocated_folder
 from elastokin.identification.geometric import JointResult
 from elastokin.report.text import identification_table
 from elastokin.studies.identification import identify_geometry
@@ -127,6 +127,20 @@ def test_kc_on_the_identified_config_overlays_the_test(identified, tmp_path):
     assert summary["rig_sha256"] == hashlib.sha256(RIG.read_bytes()).hexdigest()
     assert summary["config_sha256"] == hashlib.sha256(
         (out / "identified.yaml").read_bytes()).hexdigest()
+
+
+def test_a_data_folder_seen_from_a_config_written_elsewhere(tmp_path):
+    """What identify and import-adams write for a config's CMM / K&C test folder: relative
+    to the new config's folder, by hand; an absolute folder as given; absolute where the
+    two folders share only the root."""
+    (tmp_path / "cfg" / "test_data").mkdir(parents=True)
+    assert relocated_folder("test_data", tmp_path / "cfg", tmp_path / "out" / "x") == \
+        "../../cfg/test_data"
+    assert relocated_folder(".", tmp_path / "cfg", tmp_path / "cfg" / "sub") == ".."
+    assert relocated_folder("../cfg/test_data", tmp_path / "cfg", tmp_path) == "cfg/test_data"
+    assert relocated_folder("/data/kc", tmp_path / "cfg", tmp_path) == "/data/kc"
+    apart = relocated_folder("test_data", tmp_path / "cfg", "/")
+    assert apart == (tmp_path / "cfg" / "test_data").resolve().as_posix()
 
 
 @pytest.mark.parametrize("label, fit, expected", [

@@ -17,7 +17,7 @@ from click.testing import CliRunner
 
 from elastokin.cli.main import main
 from elastokin.report.html import HEADINGS, solver_rows
-from elastokin.rig.channels import AXLE_CHARACTERISTIC_LIST, CHARACTERISTIC_LIST
+from elastokin.rig.channels import AXLE_CHARACTERISTIC_LIST, CHARACTERISTIC_LIST, display_unit
 
 from .conftest import CASE, ROOT
 
@@ -206,7 +206,7 @@ def test_axle_section_of_the_double_wishbone_axle(axle_page, axle_results):
         f"{a['percent_ackermann_lock']:.1f}" for a in figures]
     # every axle figure that is a number (or none) has its row; the matrix has none
     scalar = [k for k, v in figures[0].items() if not isinstance(v, (dict, list))]
-    labels = {f"{c.label} [{c.unit.replace('N*mm', 'N*m')}]" for c in AXLE_CHARACTERISTIC_LIST}
+    labels = {f"{c.label} [{display_unit(c.unit)[0]}]" for c in AXLE_CHARACTERISTIC_LIST}
     assert len(scalar) == len(AXLE_CHARACTERISTIC_LIST) and labels <= set(rows)
     html = (axle_results / "report.html").read_text()
     assert "compliance_matrix_12x12" not in html

@@ -141,13 +141,15 @@ def _check_out_file(out_path: Path) -> None:
 
 
 def _keep_data_folders(cfg: dict, template_path: Path, out_path: Path) -> None:
-    """Relative CMM / K&C test folders of the template, made relative to the new config."""
+    """The template's CMM / K&C test folders as the new config names them
+    (:func:`~elastokin.config.loading.relocated_folder`)."""
+    from elastokin.config.loading import relocated_folder
+
     for key in ("measurements", "kc_test"):
         m = cfg.get(key)
-        if isinstance(m, dict) and not Path(m.get("folder", ".")).is_absolute():
-            target = template_path.parent / m.get("folder", ".")
-            rel = os.path.relpath(target.resolve(), out_path.parent.resolve())
-            m["folder"] = Path(rel).as_posix()
+        if isinstance(m, dict):
+            m["folder"] = relocated_folder(m.get("folder", "."), template_path.parent,
+                                           out_path.parent)
 
 
 def _import_header(sources: list[str], frame: dict) -> str:

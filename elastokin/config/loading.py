@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import os
 import re
 import types
 import typing
@@ -280,6 +281,26 @@ def format_validation_error(path: str, err: ValidationError, data: object = None
     n = len(lines) - 1
     more = f" ({n} more problem{'s' if n > 1 else ''})" if n else ""
     return _one_line(lines[0] + more)
+
+
+# ----------------------------------------------------------------------------------------------
+# A config written elsewhere
+
+
+def relocated_folder(folder: str, config_dir: str | Path, new_dir: str | Path) -> str:
+    """A data folder of the config in ``config_dir`` (``measurements.folder``,
+    ``kc_test.folder``: relative to the config, or absolute) as a config written into
+    ``new_dir`` names it: relative to ``new_dir`` (POSIX separators, links resolved), as a
+    config's own paths are; an absolute folder as given; absolute where the two folders share
+    nothing but the root."""
+    if Path(folder).is_absolute():
+        return folder
+    here = (Path(config_dir) / folder).resolve()
+    there = Path(new_dir).resolve()
+    common = Path(os.path.commonpath([here, there]))
+    if common == common.parent:  # only the root in common
+        return here.as_posix()
+    return Path(os.path.relpath(here, there)).as_posix()
 
 
 # ----------------------------------------------------------------------------------------------

@@ -30,7 +30,14 @@ from elastokin.report.chart_canvas import (
     legend_height,
     residual_rms,
 )
-from elastokin.rig.channels import LOAD_CASES, channel, display_label, display_unit
+from elastokin.report.text import axle_models
+from elastokin.rig.channels import (
+    AXLE_CHARACTERISTICS,
+    LOAD_CASES,
+    channel,
+    display_label,
+    display_unit,
+)
 from elastokin.rig.comparison import residual_points
 from elastokin.rig.sweeps import Sweep
 
@@ -48,6 +55,14 @@ class LegendFigure:
     unit: str
     fmt: str
     factor: float = 1.0
+
+    @classmethod
+    def as_reported(cls, key: str, label: str) -> LegendFigure:
+        """The figure ``key`` as the report's table has it: in the unit the report shows
+        (:func:`~elastokin.rig.channels.display_unit`), in the channel table's format."""
+        c = AXLE_CHARACTERISTICS[key]
+        unit, factor = display_unit(c.unit)
+        return cls(key, label, unit, c.fmt, factor)
 
 
 @dataclass(frozen=True)
@@ -80,8 +95,7 @@ AXLE_CHART_LIST = (
     AxleChartSpec("roll_moment_vs_roll_angle", "roll_vertical_force", "roll_angle_deg",
                   "roll_moment_Nmm", "Roll moment vs roll angle: the slope is the roll "
                   "stiffness", False,
-                  (LegendFigure("roll_stiffness_Nmm_per_deg", "roll stiffness", "N*m/deg",
-                                ".1f", 1.0e-3),
+                  (LegendFigure.as_reported("roll_stiffness_Nmm_per_deg", "roll stiffness"),
                    LegendFigure("anti_roll_bar_share", "anti-roll bar share", "%", ".0f",
                                 100.0))),
     AxleChartSpec("steer_vs_steering_wheel_angle", "steering", "steering_wheel_angle_deg",
@@ -118,8 +132,7 @@ def axle_chart_inputs(summary: dict) -> AxleChartInputs | None:
     if not axle:
         return None
     return AxleChartInputs(axle["config_side"], axle["track_mm"], axle.get("wheelbase_mm"),
-                           {m: v["axle"] for m, v in summary["models"].items()
-                            if v.get("axle")})
+                           axle_models(summary))
 
 
 @dataclass

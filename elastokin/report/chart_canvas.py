@@ -51,11 +51,11 @@ def footer_text(provenance: dict) -> str:
             f"(sha256 {provenance['config_sha256'][:12]}){rig_txt}")
 
 
-def provenance_footer(fig, provenance: dict):
-    """Write the provenance line (:func:`footer_text`) at the figure's bottom left; returns
-    the text artist."""
-    return fig.text(0.01, 0.008, footer_text(provenance), fontsize=7, color="0.3",
-                    ha="left", va="bottom")
+def provenance_footer(fig, provenance: dict | None = None):
+    """Write the provenance line (:func:`footer_text`) at the figure's bottom left (None: an
+    empty line, whose text is set per chart); returns the text artist."""
+    text = "" if provenance is None else footer_text(provenance)
+    return fig.text(0.01, 0.008, text, fontsize=7, color="0.3", ha="left", va="bottom")
 
 
 class ChartCanvas:
@@ -115,8 +115,7 @@ class ChartCanvas:
             if ax is not None:
                 ax.yaxis.set_label_coords(YLABEL_X_PAIR if panels == "pair" else YLABEL_X,
                                           0.5)
-        return (fig, *axes, fig.text(0.01, 0.008, "", fontsize=7, color="0.3", ha="left",
-                                     va="bottom"))
+        return (fig, *axes, provenance_footer(fig))
 
 
 def corner_counts(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int,

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.report.chart_canvas import DPI, provenance_footer
-from elastokin.rig.channels import CHARACTERISTICS
+from elastokin.report.chart_canvas import DPI, provenance_footer, save_chart
+from elastokin.report.text import characteristic_label
 
 #: the lines over a histogram: statistic -> (legend label, style)
 MARKERS = {"mean": ("mean", {"color": "black", "linestyle": "-", "linewidth": 1.2}),
@@ -22,12 +22,6 @@ MARKERS = {"mean": ("mean", {"color": "black", "linestyle": "-", "linewidth": 1.
            "nominal": ("nominal model (no clearance shift)", {"color": "tab:red",
                                                                "linestyle": "-",
                                                                "linewidth": 1.6})}
-
-
-def label(name: str) -> str:
-    """Axis label of a characteristic from the channel table (units as in summary.json)."""
-    c = CHARACTERISTICS.get(name)
-    return name if c is None else f"{c.label} [{c.unit}]"
 
 
 def new_figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1):
@@ -43,16 +37,9 @@ def new_figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1):
 
 
 def save(fig, name: str, out_dir: Path, provenance: dict, svg: bool) -> list[Path]:
-    from matplotlib import rc_context
-
+    """The chart with its provenance footer as ``name``.png in ``out_dir`` (and .svg)."""
     provenance_footer(fig, provenance)
-    paths = [out_dir / f"{name}.png"]
-    fig.savefig(paths[0], dpi=DPI)
-    if svg:
-        paths.append(out_dir / f"{name}.svg")
-        with rc_context({"svg.hashsalt": "elastokin"}):  # reproducible SVG ids
-            fig.savefig(paths[1], metadata={"Date": None})
-    return paths
+    return save_chart(fig, out_dir / f"{name}.png", svg)
 
 
 def histogram(ax, values: np.ndarray, stats: dict, nominal: float | None, name: str,
@@ -68,7 +55,7 @@ def histogram(ax, values: np.ndarray, stats: dict, nominal: float | None, name: 
             ax.axvline(stats[key], label=MARKERS[key][0], **MARKERS[key][1])
     if nominal is not None:
         ax.axvline(nominal, label=MARKERS["nominal"][0], **MARKERS["nominal"][1])
-    ax.set_xlabel(label(name), fontsize=fontsize)
+    ax.set_xlabel(characteristic_label(name), fontsize=fontsize)
     ax.set_ylabel("samples", fontsize=fontsize)
     ax.tick_params(labelsize=fontsize - 1)
     ax.xaxis.set_major_locator(MaxNLocator(5))

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elastokin.config.frozen import plain_data
+from elastokin.config.loading import relocated_folder
 from elastokin.report.text import identification_table
 from elastokin.rig.axle_channels import design_track_mm
 from elastokin.rig.channels import sign_conventions
@@ -268,21 +269,17 @@ def written_config(config: dict, suspension, label: str, folder: Path,
                    fit_again: bool = True) -> dict:
     """A config that ``elastokin identify`` writes into ``folder``: the model's ``label``
     (what ``elastokin kc`` calls the model), the references, and the config's ``kc_test``
-    section with its folder relative to ``folder`` (so that ``elastokin kc`` on it overlays the
-    test, as on the config). ``fit_again`` False: the stiffness fit is switched off (the
-    initial model's config: the fit belongs to the identified model; the fitted model's
-    config: its laws are fitted)."""
+    section with its folder as seen from ``folder`` (so that ``elastokin kc`` on it overlays
+    the test, as on the config: :func:`~elastokin.config.loading.relocated_folder`).
+    ``fit_again`` False: the stiffness fit is switched off (the initial model's config: the
+    fit belongs to the identified model; the fitted model's config: its laws are fitted)."""
     out = {"elastokin": config["elastokin"], "name": config["name"], "label": label,
            **{k: v for k, v in config.items() if k not in ("elastokin", "name", "label")}}
     kc_test = suspension.raw.get("kc_test")
     if kc_test is not None:
         kc_test = plain_data(kc_test)
-        here = os.path.abspath(Path(suspension.source).parent / kc_test.get("folder", "."))
-        there = os.path.abspath(folder)
-        # relative, as a config's own paths are, unless the two share no folder but the root
-        common = os.path.commonpath([here, there])
-        kc_test["folder"] = here if common == os.path.dirname(common) else os.path.relpath(
-            here, there)
+        kc_test["folder"] = relocated_folder(kc_test.get("folder", "."),
+                                             Path(suspension.source).parent, folder)
         if not fit_again:
             kc_test.setdefault("stiffness_identification", {})["enabled"] = False
         out["kc_test"] = kc_test
@@ -358,8 +355,6 @@ def read_results(folder: str | Path) -> tuple[dict, list[Sweep]]:
 
 def write_json(path: Path, doc: dict) -> None:
     """Write JSON atomically (temporary file, then rename)."""
-    import os
-
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(json.dumps(doc, indent=2) + "\n")
     os.replace(tmp, path)

@@ -12,10 +12,8 @@ from pathlib import Path
 
 from elastokin.report.axle_charts import AXLE_CHARTS, axle_chart_caption
 from elastokin.report.html_parts import esc, figure, note, num, table
-from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTIC_LIST
-
-#: units the report shows instead of summary.json's: unit -> (shown unit, factor, format)
-SHOWN_UNITS = {"N*mm/deg": ("N*m/deg", 1.0e-3, ".1f")}
+from elastokin.report.text import axle_models
+from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTIC_LIST, display_unit
 
 #: the named compliances' parts (elastokin.physics.axle_compliance.named_compliances)
 _NAMED = re.compile(r"(lateral_force|longitudinal_force|traction_force|aligning_torque)_"
@@ -32,17 +30,10 @@ PHASE_WORDS = {"in_phase": "in phase", "anti_phase": "anti-phase (+ on the left 
                "single": "this wheel alone"}
 
 
-def axle_models(summary: dict) -> dict[str, dict]:
-    """The models with axle figures: label -> ``models.<label>.axle``."""
-    return {m: v["axle"] for m, v in summary["models"].items() if v.get("axle")}
-
-
 def figure_cell(value, unit: str, fmt: str) -> str:
-    """A figure in the unit the report shows (:data:`SHOWN_UNITS`); a dash for none."""
-    shown = SHOWN_UNITS.get(unit)
-    if shown is not None and value is not None:
-        value, fmt = value * shown[1], shown[2]
-    text = num(value, fmt)
+    """A figure of summary.json's ``unit`` in the unit the report shows
+    (:func:`~elastokin.rig.channels.display_unit`); a dash for none."""
+    text = num(None if value is None else value * display_unit(unit)[1], fmt)
     # a value that rounds to zero is shown without a sign (a centred roll centre: -6e-11 mm)
     return text.removeprefix("-") if text.startswith("-") and not text.strip("-0.") else text
 
@@ -81,8 +72,8 @@ def characteristic_rows(axles: dict[str, dict]) -> list[list[str]]:
         c = AXLE_CHARACTERISTICS.get(key)
         label, unit, fmt, definition = ((c.label, c.unit, c.fmt, c.definition) if c
                                         else (key, "", ".4g", ""))
-        shown = SHOWN_UNITS.get(unit, (unit,))[0]
-        rows.append([f'<span title="{esc(definition)}">{esc(label)} [{esc(shown)}]</span>',
+        rows.append([f'<span title="{esc(definition)}">{esc(label)} '
+                     f'[{esc(display_unit(unit)[0])}]</span>',
                      *(figure_cell(a.get(key), unit, fmt) for a in axles.values())])
     return rows
 

@@ -1,12 +1,13 @@
 """Console tables: what ``elastokin kc``, ``identify`` and ``doe`` print (plain text, units in
-the headers)."""
+the headers). No heavy import (no numpy, no matplotlib): the report's other modules take the
+summary's axle figures (:func:`axle_models`) and a characteristic's label from here."""
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
 
-from elastokin.rig.channels import CHARACTERISTICS
+from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTICS, display_unit
 
 
 def fixed(value: float, decimals: int) -> str:
@@ -59,7 +60,7 @@ def kc_table(summary: dict, out_dir: Path) -> str:
     if refs:
         lines.append("  reference steer amplitude (deg): "
                      + ", ".join(f"{k} {v:g}" for k, v in refs.items()))
-    lines += axle_lines(summary["models"])
+    lines += axle_lines(summary)
     # summary["warnings"] are not repeated here: `elastokin kc` prints each once on stderr
     fit = summary.get("stiffness_identification")
     if fit:
@@ -78,10 +79,11 @@ def kc_table(summary: dict, out_dir: Path) -> str:
 
 
 #: the axle's figures the K&C table shows (summary.json "axle" has them all): key, label, format
+#: (of the figure in the unit the report shows: :func:`~elastokin.rig.channels.display_unit`)
 AXLE_FIGURES = (
     ("roll_centre_height_mm", "roll centre height, kinematic mm", ".1f"),
     ("roll_centre_height_force_based_mm", "roll centre height, force-based mm", ".1f"),
-    ("roll_stiffness_Nmm_per_deg", "roll stiffness N*m/deg", "scaled"),
+    ("roll_stiffness_Nmm_per_deg", "roll stiffness N*m/deg", ".1f"),
     ("anti_roll_bar_share", "anti-roll bar share -", ".3f"),
     ("axle_roll_steer_deg_per_deg", "roll steer deg/deg", ".4f"),
     ("roll_camber_left_deg_per_deg", "roll camber (left) deg/deg", ".4f"),
@@ -93,9 +95,14 @@ AXLE_FIGURES = (
 )
 
 
-def axle_lines(models: dict) -> list[str]:
+def axle_models(summary: dict) -> dict[str, dict]:
+    """The models with axle figures: label -> ``models.<label>.axle`` (none on a corner)."""
+    return {m: v["axle"] for m, v in summary["models"].items() if v.get("axle")}
+
+
+def axle_lines(summary: dict) -> list[str]:
     """The axle's key figures, one row each, one column per model (none for a corner)."""
-    axles = {label: m["axle"] for label, m in models.items() if m.get("axle")}
+    axles = axle_models(summary)
     if not axles:
         return []
     out = ["", "Axle (both wheels; every figure and its definition: summary.json 'axle', "
@@ -105,8 +112,8 @@ def axle_lines(models: dict) -> list[str]:
         values = [a.get(key) for a in axles.values()]
         if all(v is None for v in values):
             continue
-        cells = ["-" if v is None else format(v / 1000.0, ".1f") if fmt == "scaled"
-                 else format(v, fmt) for v in values]
+        factor = display_unit(AXLE_CHARACTERISTICS[key].unit)[1]
+        cells = ["-" if v is None else format(v * factor, fmt) for v in values]
         out.append(f"  {label:<36}" + "".join(f"{c:>22}" for c in cells))
     return out
 
@@ -168,6 +175,13 @@ def identification_table(ident) -> str:
     return "\n".join(out) + "\n"
 
 
+def characteristic_label(name: str) -> str:
+    """A characteristic's label and unit from the channel table (units as in summary.json;
+    the name itself when the table has none): a DOE table's row, a DOE chart's axis."""
+    c = CHARACTERISTICS.get(name)
+    return name if c is None else f"{c.label} [{c.unit}]"
+
+
 def doe_table(doc: dict, out_dir: Path) -> str:
     """A DOE study's characteristics (nominal, mean, std, p05, p95) and sensitivity."""
     s = doc["steer_amplitude_deg"]
@@ -181,10 +195,8 @@ def doe_table(doc: dict, out_dir: Path) -> str:
         return f"{x:>10.4g}" if x is not None else f"{'-':>10}"
 
     for name, st in doc["characteristics"].items():
-        c = CHARACTERISTICS.get(name)
-        text = name if c is None else f"{c.label} [{c.unit}]"
-        lines.append(f"  {text:<48}{num(nominal.get(name))}{num(st['mean'])}{num(st['std'])}"
-                     f"{num(st['p05'])}{num(st['p95'])}")
+        lines.append(f"  {characteristic_label(name):<48}{num(nominal.get(name))}"
+                     f"{num(st['mean'])}{num(st['std'])}{num(st['p05'])}{num(st['p95'])}")
     sens = {k: v for k, v in doc["sensitivity"].items() if v is not None}
     if sens and s["n"]:
         ranked = sorted(sens, key=lambda k: -sens[k])

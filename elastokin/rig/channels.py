@@ -155,8 +155,9 @@ CHANNEL_LIST = (
             adams="aligning_torque"),
 )
 #: units charts and the report show instead of the interface unit: unit -> (shown unit, factor
-#: from the interface unit); torques in N*m, as the summary's kN*m gradients
-DISPLAY_UNITS = {"N*mm": ("N*m", 1.0e-3)}
+#: from the interface unit); torques in N*m, as the summary's kN*m gradients, and so the roll
+#: stiffness
+DISPLAY_UNITS = {"N*mm": ("N*m", 1.0e-3), "N*mm/deg": ("N*m/deg", 1.0e-3)}
 
 
 def display_unit(unit: str) -> tuple[str, float]:
@@ -368,6 +369,7 @@ def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Charac
 
 #: the axle's characteristics (summary.json ``models.<label>.axle``; ADAMS/Car's definitions,
 #: docs/characteristics.md "Axle characteristics"); computed by elastokin.rig.axle_summary
+#: (``fmt``: the report's, of the figure in the unit it shows, :func:`display_unit`)
 AXLE_CHARACTERISTIC_LIST = (
     _axle("roll_centre_height_mm", "roll centre height (kinematic)", "mm", ".1f",
           "where the lines from each contact point normal to its velocity in parallel travel "
@@ -377,10 +379,10 @@ AXLE_CHARACTERISTIC_LIST = (
     _axle("roll_centre_height_force_based_mm", "roll centre height (force-based)", "mm",
           ".1f", "ADAMS/Car's: from the 12x12 compliance under opposing vertical forces at the "
           "contact points"),
-    _axle("roll_stiffness_Nmm_per_deg", "roll stiffness (total)", "N*mm/deg", ".0f",
+    _axle("roll_stiffness_Nmm_per_deg", "roll stiffness (total)", "N*mm/deg", ".1f",
           "slope of the roll moment against the roll angle, roll and vertical force case"),
     _axle("anti_roll_bar_roll_stiffness_Nmm_per_deg", "roll stiffness of the anti-roll bar",
-          "N*mm/deg", ".0f", "the bar's torque times its twist per roll angle"),
+          "N*mm/deg", ".1f", "the bar's torque times its twist per roll angle"),
     _axle("anti_roll_bar_share", "anti-roll bar's share of the roll stiffness", "-", ".3f",
           "the bar's roll stiffness over the total"),
     _axle("roll_steer_left_deg_per_deg", "roll steer, left (toe-in +)", "deg/deg", ".4f",

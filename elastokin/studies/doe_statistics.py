@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -47,10 +48,21 @@ def statistics(values: Iterable[float]) -> dict[str, float | None]:
             "min": float(np.min(x)), "max": float(np.max(x)), "n": int(x.size)}
 
 
-def standardised_regression(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float]:
+class Regression(NamedTuple):
+    """A standardised regression (:func:`standardised_regression`): the SRCs, the R^2 of the
+    fit and the SRCs' standard errors."""
+
+    src: np.ndarray
+    r2: float
+    src_standard_error: np.ndarray
+
+
+def standardised_regression(X: np.ndarray, y: np.ndarray) -> Regression:
     """Standardised regression coefficients of y (n,) on the columns of X (n, p) by least
-    squares with an intercept: SRC_i = b_i std(x_i) / std(y); and the R^2 of the fit. Needs
-    n >= p + 2. A constant y gives zeros and R^2 = 0."""
+    squares with an intercept: SRC_i = b_i std(x_i) / std(y); the R^2 of the fit; and the
+    SRCs' standard errors (ordinary least squares: s^2 (A^T A)^-1 with s^2 the residual
+    variance over n - p - 1 degrees of freedom, scaled as the SRCs). Needs n >= p + 2 (a
+    degree of freedom left). A constant y gives zeros, R^2 = 0 and zero standard errors."""
     X = np.asarray(X, float)
     y = np.asarray(y, float)
     n, p = X.shape
@@ -58,33 +70,14 @@ def standardised_regression(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, f
         raise ValueError(f"{n} samples cannot fit {p} inputs (need at least {p + 2})")
     sx, sy = X.std(axis=0, ddof=1), y.std(ddof=1)
     if not sy > 0:
-        return np.zeros(p), 0.0
+        return Regression(np.zeros(p), 0.0, np.zeros(p))
     A = np.c_[np.ones(n), X - X.mean(axis=0)]
     coef, *_ = np.linalg.lstsq(A, y, rcond=None)
     resid = y - A @ coef
-    r2 = 1.0 - float(resid @ resid) / float(((y - y.mean()) ** 2).sum())
-    return coef[1:] * sx / sy, r2
-
-
-def src_standard_errors(X: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Standard errors of the SRCs of :func:`standardised_regression` (ordinary least
-    squares: s^2 (A^T A)^-1 with s^2 the residual variance over n - p - 1 degrees of freedom,
-    scaled as the SRCs); infinite without a degree of freedom left. A constant y gives
-    zeros."""
-    X = np.asarray(X, float)
-    y = np.asarray(y, float)
-    n, p = X.shape
-    sy = y.std(ddof=1)
-    if not sy > 0:
-        return np.zeros(p)
-    if n <= p + 1:
-        return np.full(p, np.inf)
-    A = np.c_[np.ones(n), X - X.mean(axis=0)]
-    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
-    resid = y - A @ coef
-    s2 = float(resid @ resid) / (n - p - 1)
-    cov = s2 * np.linalg.pinv(A.T @ A)
-    return np.sqrt(np.diag(cov)[1:]) * X.std(axis=0, ddof=1) / sy
+    rss = float(resid @ resid)
+    r2 = 1.0 - rss / float(((y - y.mean()) ** 2).sum())
+    cov = rss / (n - p - 1) * np.linalg.pinv(A.T @ A)
+    return Regression(coef[1:] * sx / sy, r2, np.sqrt(np.diag(cov)[1:]) * sx / sy)
 
 
 #: the largest standard error of an SRC the sensitivity ranking is reported without a warning
@@ -142,16 +135,15 @@ def joint_sensitivity(X: np.ndarray, y: np.ndarray, groups: list[str]) -> dict:
     cols = {j: [i for i, g in enumerate(groups) if g == j] for j in names}
     n, p = X.shape
     if n >= p + 2:
-        src, r2 = standardised_regression(X, y)
+        src, r2, se = standardised_regression(X, y)
         joints = {j: float(np.sum(src[cols[j]] ** 2)) for j in names}
         out = {"method": "src", "r2": r2, "joints": joints, "src": [float(v) for v in src],
-               "src_standard_error": [float(v) for v in src_standard_errors(X, y)]}
+               "src_standard_error": [float(v) for v in se]}
     else:
         joints = {}
         for j in names:
             if n >= len(cols[j]) + 2:
-                _, r2j = standardised_regression(X[:, cols[j]], y)
-                joints[j] = float(r2j)
+                joints[j] = float(standardised_regression(X[:, cols[j]], y).r2)
             else:
                 joints[j] = None
         out = {"method": "src_per_joint", "r2": None, "joints": joints, "src": None,

@@ -50,7 +50,6 @@ from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
 from elastokin.rig.load_cases import (
     StaticResult,
-    compliance_matrix,
     run_load_cases_sides,
     static_equilibrium,
     wheel_compliance,
@@ -69,16 +68,17 @@ def _quiet(msg: str) -> None:
 @dataclass
 class ModelResult:
     """Everything the K&C run produced for one model: the config side's sweeps and, on an
-    axle, the other wheel's (``other_sides``), the axle itself and its 12x12 compliance."""
+    axle, the other wheel's (``other_sides``), the axle itself and the compliance of every
+    wheel centre (:func:`elastokin.rig.load_cases.wheel_compliance`: 6x6 on a corner, the
+    axle's 12x12 with the config side's wheel first; config frame; None: kinematic)."""
 
     label: str
     kinematic: bool
     sweeps: list[Sweep]
     solver: dict
-    compliance: np.ndarray | None = None  # see elastokin.rig.load_cases.compliance_matrix
+    compliance: np.ndarray | None = None
     other_sides: dict[str, list[Sweep]] = field(default_factory=dict)
     axle: Suspension | None = None  # the model's suspension, when it is an axle
-    axle_compliance: np.ndarray | None = None  # wheel_compliance (config frame, config side)
 
     def sweep(self, load_case: str) -> Sweep | None:
         return find_sweep(self.sweeps, load_case)
@@ -88,19 +88,16 @@ class ModelResult:
         config side's wheel; the other wheel's under its side (an axle, or a test with both
         wheels) and on an axle the axle's (``axle``,
         :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
-        out = summary_figures(self.sweeps, self.kinematic, self.compliance)
-        sides = {}
-        for side, sweeps in self.other_sides.items():  # the test's other wheel too
-            sides[side] = summary_figures(sweeps, self.kinematic,
-                                          None if self.axle_compliance is None
-                                          else self.axle_compliance[6:, 6:])
-            out[side] = sides[side]
+        c = self.compliance
+        out = summary_figures(self.sweeps, self.kinematic, None if c is None else c[:6, :6])
+        sides = {side: summary_figures(sweeps, self.kinematic, None if c is None else c[6:, 6:])
+                 for side, sweeps in self.other_sides.items()}  # the test's other wheel too
+        out.update(sides)
         if self.axle is None:
             return out
         s = self.axle
         by_side = {s.side: self.sweeps, **self.other_sides}
-        out["axle"] = axle_characteristics(by_side, {s.side: out, **sides}, s,
-                                           self.axle_compliance)
+        out["axle"] = axle_characteristics(by_side, {s.side: out, **sides}, s, c)
         return out
 
 
@@ -239,21 +236,16 @@ def static(variant: ModelVariant, model: SuspensionModel | None = None) -> Stati
 def load_cases(variant: ModelVariant, progress: Progress = _quiet,
                model: SuspensionModel | None = None) -> ModelResult:
     """Step ``load_cases``: every load case of the rig on one model (``model``, the variant's
-    built model, when given), and (compliant models) the compliance matrix at the static
-    equilibrium."""
+    built model, when given), and (compliant models) the compliance of every wheel centre at
+    the static equilibrium."""
     progress(f"model '{variant.label}': K&C load cases")
     model = model or build_model(variant)
     s = model.suspension
     by_side = run_load_cases_sides(model, variant.label)
-    others = {side: sw for side, sw in by_side.items() if side != s.side}
-    if s.axle is None:
-        compliance = None if variant.kinematic else compliance_matrix(model)
-        return ModelResult(variant.label, variant.kinematic, by_side[s.side],
-                           model.solver_settings(), compliance)
-    full = None if variant.kinematic else wheel_compliance(model)
-    return ModelResult(variant.label, variant.kinematic, by_side[s.side],
-                       model.solver_settings(), None if full is None else full[:6, :6],
-                       others, s, full)
+    return ModelResult(variant.label, variant.kinematic, by_side.pop(s.side),
+                       model.solver_settings(),
+                       None if variant.kinematic else wheel_compliance(model), by_side,
+                       None if s.axle is None else s)
 
 
 def fits_stiffness(suspension: Suspension) -> bool:
