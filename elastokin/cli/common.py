@@ -5,6 +5,7 @@ each, and the ``--rig`` option."""
 from __future__ import annotations
 
 import errno
+import hashlib
 import os
 import shutil
 import sys
@@ -74,7 +75,8 @@ class Output:
         check_writable(out, opt)
 
     def __enter__(self) -> Path:
-        self.check()
+        with move_lock(self.out):  # not while another run moves its results in
+            self.check()
         out = self.out
         try:
             out.parent.mkdir(parents=True, exist_ok=True)
@@ -91,25 +93,44 @@ class Output:
                     Path(exc.filename).is_relative_to(self.tmp):
                 raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
             return
-        old = None  # the previous results, moved aside: restored if the new cannot move in
+        try:
+            with move_lock(self.out):
+                old = self._move_into_place()
+        except OSError as exc:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+            raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+    def _move_into_place(self) -> Path | None:
+        """Move the earlier results aside (returns the folder they are in: None without) and
+        the new ones into place; when the new cannot move in, the earlier ones move back
+        (their folder kept if even that fails, so that they are never lost)."""
+        old = None
         try:
             if self.out.exists():
                 old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old.",
                                             dir=self.out.parent))
                 self.out.rename(old / "previous")
-            try:
-                self.tmp.rename(self.out)
-            except OSError:
-                if old is not None and (old / "previous").exists():
+            self.tmp.rename(self.out)
+        except OSError:
+            if old is not None:
+                if (old / "previous").exists():
                     (old / "previous").rename(self.out)
-                raise
-        except OSError as exc:
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            if old is not None and not (old / "previous").exists():
-                shutil.rmtree(old, ignore_errors=True)
-            raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+                shutil.rmtree(old, ignore_errors=True)  # empty: the earlier results are back
+            raise
+        return old
+
+
+def move_lock(out: Path):
+    """The lock every elastokin process on this machine takes to move results into ``out``
+    (a file in the temporary folder named by the folder's absolute path): two runs finishing
+    at once into one folder replace it one after the other, not into each other."""
+    from filelock import FileLock  # imported by the commands that write, not by --help
+
+    key = hashlib.sha256(os.path.abspath(out).encode()).hexdigest()[:16]
+    return FileLock(Path(tempfile.gettempdir()) / f"elastokin-results-{key}.lock", timeout=600,
+                    poll_interval=0.01)
 
 
 def _one_line(message) -> str:
