@@ -15,6 +15,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs.bushings import BALANCING_ROTATION
+from elastokin.mbs.contact import contact_arm
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
@@ -32,11 +33,12 @@ HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
 def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
-    """Supports holding every wheel's contact patch at its design height (x, y free), by
-    side (the config side's named :data:`PATCH_SUPPORT`)."""
+    """Supports holding every wheel's contact point (its lowest point, as the rig's pad:
+    :mod:`elastokin.mbs.contact`) at its design height (x, y free), by side (the config
+    side's named :data:`PATCH_SUPPORT`)."""
     s = model.suspension
     return {side: model.add_support(PATCH_SUPPORT if side == s.side
-                                    else f"{PATCH_SUPPORT}:{side}", w.part,
+                                    else f"{PATCH_SUPPORT}:{side}", contact_arm(model, side),
                                     w.contact_patch_mm, HOLD_Z)
             for side, w in s.wheels.items()}
 
@@ -108,13 +110,17 @@ def design_state(suspension: Suspension) -> DesignState:
     if ideal:
         # the stiff springs' rotation under the bushings' design torques moves the parts off
         # the design position (a 1.3e6 N*mm torque turns 1.3e-3 rad: 0.3 mm at a 250 mm
-        # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it
-        for b in s.bushings:
-            held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
-            # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
-            offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
-        if any(np.any(v) for v in offsets.values()):
-            p1, loads = balance()
+        # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it,
+        # and after a second relaxation ~1e-6: the pad holds the tyre's lowest point, which
+        # the knuckle's pitch moves by the loaded radius times it (1e-6 rad left the double
+        # wishbone's static pad load 2.6e-3 N and its wheel centre 7e-5 mm off the design)
+        for _ in range(2):
+            for b in s.bushings:
+                held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
+                # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
+                offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+            if any(np.any(v) for v in offsets.values()):
+                p1, loads = balance()
     if not balanced:
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
     springs.update(zip(balanced, (float(v) for v in p1)))

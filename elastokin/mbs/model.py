@@ -234,11 +234,13 @@ class SuspensionModel:
             return self.ground
         return self.body[part] if part in self.body else self.rig_bodies[part]
 
-    def add_rig_body(self, name: str, point_mm, held: Iterable[int]) -> str:
-        """A rigid body of the rig (not a part of the suspension: no pose recorded) at
-        ``point_mm`` (config frame), held to ground in the ``held`` directions (6 flags,
-        config frame) by a support named ``name`` that every solve keeps (a lock at offset
-        0); supports and loads of parts can act against it (``base``). Returns ``name``."""
+    def add_rig_body(self, name: str, point_mm, held: Iterable[int] | None = None) -> str:
+        """A massless rigid body that is not a part of the suspension (no pose recorded: a
+        body of the rig, a wheel's contact arm, :mod:`elastokin.mbs.contact`) at ``point_mm``
+        (config frame); with ``held``, held to ground in those directions (6 flags, config
+        frame) by a support named ``name`` that every solve keeps (a lock at offset 0),
+        otherwise the caller joins it; supports and loads of parts can act against it
+        (``base``). Returns ``name``."""
         if name in self.rig_bodies:
             raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
         ref = np.asarray(point_mm, float)
@@ -247,6 +249,8 @@ class SuspensionModel:
             referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
             nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
         self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
+        if held is None:
+            return name
         return self.add_support(name, name, ref, held, lock=np.zeros(6))
 
     def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:

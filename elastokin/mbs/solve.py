@@ -16,6 +16,7 @@ from exudyn.advancedUtilities import CreateSymbolicUserFunction
 
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs import friction
+from elastokin.mbs.contact import set_contact_path
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.model import ABSOLUTE_TOLERANCE, DEG, SuspensionModel
 from elastokin.mbs.user_functions import make_path_function
@@ -127,7 +128,10 @@ def _set_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
     applied = {}
     for name, e in model.loads.items():
         v = inputs.get(name, np.zeros((n, 3)))
-        set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
+        if e["kind"] == "contact":  # a force at the tyre's contact point (mbs.contact)
+            set_contact_path(model, name, ts, np.vstack([v[:1], v]))
+        else:
+            set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
         applied[name] = v
     for name, e in model.supports.items():
         active = name in inputs or name in model.locks

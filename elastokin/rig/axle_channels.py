@@ -30,21 +30,23 @@ def design_track_mm(suspension: Suspension) -> float:
     return abs(float(track_mm(patch["left"], patch["right"])))
 
 
-def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, drive
-                 ) -> dict[str, np.ndarray]:
+def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, drive,
+                 static: dict[str, StepState]) -> dict[str, np.ndarray]:
     """The axle's columns of one load case (the same in every wheel's sweep):
-    ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
-    ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel the kinematic
-    ``roll_centre_height_mm`` (above the contact points' mean height) and
-    ``roll_centre_lateral_mm`` (ISO y, + left)."""
+    ``roll_angle_deg`` (from each wheel's travel from its ``static`` state, the model's own
+    static state under the design wheel loads) and ``roll_moment_Nmm`` from both wheels, the
+    anti-roll bar's ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel the
+    kinematic ``roll_centre_height_mm`` (above the contact points' mean height) and
+    ``roll_centre_lateral_mm`` (ISO y, + left). The contact points are the wheels' lowest
+    points (``StepState.contact_patch_mm``)."""
     s = suspension
     T = iso_rotation(s)
     patch = {side: np.array([st.contact_patch_mm for st in by_side[side]]) @ T.T
              for side in ("left", "right")}
     centre = {side: np.array([st.wheel_centre_mm for st in by_side[side]]) @ T.T
               for side in ("left", "right")}
-    design_centre = {side: T @ s.wheels[side].centre_mm for side in ("left", "right")}
-    travel = {side: centre[side][:, 2] - design_centre[side][2] for side in centre}
+    travel = {side: centre[side][:, 2] - (T @ static[side].wheel_centre_mm)[2]
+              for side in centre}
     track = design_track_mm(s)
     fz = {side: np.array([(T @ st.pad_force_N)[2] for st in by_side[side]])
           for side in ("left", "right")}

@@ -12,6 +12,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
@@ -25,6 +26,8 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
+from elastokin.errors import SolverError
+from elastokin.physics.states import StepState
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
@@ -40,33 +43,90 @@ from elastokin.rig.drives import (
     parallel_travel_drive,
     vertical_force_drive,
 )
-from elastokin.rig.pad import WheelInputs, run_pad, run_rig
+from elastokin.rig.pad import WheelInputs, run_rig
 from elastokin.rig.paths import travel_path
 from elastokin.rig.sweeps import Sweep
 
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
            "force_sweep", "parallel_travel", "parallel_travel_drive", "run_drive",
            "run_drive_sides", "run_load_cases", "run_load_cases_sides", "static_equilibrium",
-           "travel_path", "vertical_force", "vertical_force_drive", "wheel_compliance"]
+           "static_states", "travel_path", "vertical_force", "vertical_force_drive",
+           "wheel_compliance"]
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
-    from elastokin.physics.states import StepState
+
+
+class StaticStateWarning(UserWarning):
+    """A model has no static equilibrium under the design wheel load (e.g. a kinematic model
+    without a spring): its changes are then from the design position (the message says so)."""
+
+
+def static_states(model: SuspensionModel, variations: Sequence | None = None
+                  ) -> dict[str, StepState]:
+    """The model's own static state under the design wheel load, by side: every wheel's
+    contact patch carrying the design wheel load, patches free (force control), steering
+    held. It is the zero of the rig: every change-from-static channel
+    (:func:`elastokin.rig.characteristics.characteristics`) and every pad height
+    (:func:`run_drive_sides`) is referenced to it. Without such an equilibrium, the design
+    position, with a :class:`StaticStateWarning`. ``variations``: with its sensitivities
+    (:func:`~elastokin.rig.pad.run_rig`)."""
+    s = model.suspension
+    try:
+        return _design_load_states(model, variations)
+    except SolverError as exc:
+        warnings.warn(StaticStateWarning(
+            f"{exc}: the changes (wheel travel, wheel-centre displacements, track and "
+            "wheelbase change, steer angle) and the rig's pad heights are from the design "
+            "position"), stacklevel=2)
+    return {side: StepState(w.centre_mm, w.spin_axis, np.eye(3), w.contact_patch_mm,
+                            np.zeros(3), {}, {}, {}) for side, w in s.wheels.items()}
+
+
+def _design_load_states(model: SuspensionModel, variations: Sequence | None = None
+                        ) -> dict[str, StepState]:
+    s = model.suspension
+    load = (s.up * s.design.wheel_load_N)[None, :]
+    wheels = {side: WheelInputs(None, load, np.zeros((1, 6))) for side in s.wheels}
+    return run_rig(model, wheels, what="static equilibrium under the design wheel load",
+                   variations=variations)[0]
+
+
+def pads_from_static(drive: Drive, suspension, static: dict[str, StepState]
+                     ) -> dict[str, WheelInputs]:
+    """The drive's wheel inputs with every pad height taken from the static state (a rig
+    moves its pads from where the car rests): each wheel's pad height plus its contact
+    point's height at ``static`` above the design position's."""
+    out = {}
+    for side, wi in drive.wheels.items():
+        if wi.pad_z_mm is not None:
+            rest = (static[side].contact_patch_mm - suspension.wheels[side].contact_patch_mm)
+            wi = replace(wi, pad_z_mm=np.asarray(wi.pad_z_mm, float) + rest @ suspension.up)
+        out[side] = wi
+    return out
 
 
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
-                    variations: Sequence | None = None) -> list[Sweep]:
+                    variations: Sequence | None = None,
+                    static: dict[str, StepState] | None = None) -> list[Sweep]:
     """The sweeps of ``drive`` on ``model``, one per wheel (the config side's first; the
     pads attached when they are not yet); with ``variations`` (parameters of the model's
     parametric bushings, :class:`~elastokin.mbs.sensitivity.LawVariation`) every sweep
-    carries the tangents of its wheel's columns (``Sweep.tangents``)."""
+    carries the tangents of its wheel's columns (``Sweep.tangents``; the static state's
+    then solved with them, when ``static`` has none). ``static``: the
+    model's :func:`static_states` (solved here when not given): the pads move from it
+    (:func:`pads_from_static`; ``pad_z_mm`` is the change from it) and every
+    change-from-static channel is referenced to it."""
     s = model.suspension
     rig = s.rig_source
+    if static is None or (variations and any(st.sensitivity is None
+                                              for st in static.values())):
+        static = static_states(model, variations)  # the tangents need its own
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
     if drive.load_case == "steering":
         drive = left_turning(model, drive, what)
-    steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
-                    variations=variations)
+    steps = run_rig(model, pads_from_static(drive, s, static), drive.rack_travel_mm,
+                    drive.heave_load_N, what=what, variations=variations)
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
     own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
     keep = drive.recorded
@@ -75,13 +135,15 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         cols = {k: v[keep] for k, v in cols.items()}
         own = {k: v[keep] for k, v in own.items()}
     by_side = {side: [st[side] for st in steps] for side in s.sides}
-    shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
+    shared = axle_columns(by_side, s, drive, static) if s.axle is not None else {}
     sweeps = []
     for side in s.sides:
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
-        columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
-        tangents = wheel_column_tangents(by_side[side], view) if variations else {}
+        columns = {**cols, **mine, **characteristics(by_side[side], view, static[side]),
+                   **shared}
+        tangents = (wheel_column_tangents(by_side[side], view, static[side]) if variations
+                    else {})
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
     return sweeps
 
@@ -112,18 +174,20 @@ def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
 
 
 def run_drive(model: SuspensionModel, label: str, drive: Drive,
-              variations: Sequence | None = None) -> Sweep:
+              variations: Sequence | None = None,
+              static: dict[str, StepState] | None = None) -> Sweep:
     """The config side's sweep of ``drive`` on ``model`` (:func:`run_drive_sides`)."""
-    return run_drive_sides(model, label, drive, variations)[0]
+    return run_drive_sides(model, label, drive, variations, static)[0]
 
 
 def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None = None,
                          variations: Sequence | None = None) -> dict[str, list[Sweep]]:
     """Every load case of ``rig`` (default: the model's config's) on ``model``: the sweeps by
-    side (the config side's first)."""
+    side (the config side's first), every change from the model's :func:`static_states`."""
     out: dict[str, list[Sweep]] = {side: [] for side in model.suspension.sides}
+    static = static_states(model)
     for d in drives(model.suspension, rig, model.suspension.kinematic):
-        for sw in run_drive_sides(model, label, d, variations):
+        for sw in run_drive_sides(model, label, d, variations, static):
             out[sw.side].append(sw)
     return out
 
@@ -218,8 +282,7 @@ def static_equilibrium(model: SuspensionModel) -> StaticResult:
 
     s = model.suspension
     w = s.design.wheel_load_N
-    state = run_pad(model, pad_loads=[s.up * w],
-                    what="static equilibrium under the wheel load")[-1]
+    state = _design_load_states(model)[s.side]
     forces = forces_on_part(model, s.wheel.part)
     residual = float(np.linalg.norm(sum(forces.values())))
     return StaticResult(state, w, bushing_table(state, s), residual)

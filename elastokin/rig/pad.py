@@ -5,6 +5,11 @@ the contact patch and at the wheel centre (force control); on an axle also the s
 under the axle's total vertical load, the pads' heights prescribed relative to it). The model
 knows nothing of it.
 
+The contact patch is the tyre's contact point, the wheel's lowest point at the loaded radius
+in the wheel plane (:func:`~elastokin.physics.steering_geometry.contact_point`), recomputed at
+every step: the wheel rolls on the pad, which holds and loads it there
+(:mod:`elastokin.mbs.contact`), and every channel reads the same point.
+
 Config frame, mm / N / N*mm. Contact-patch forces are the forces the pad applies to the tyre
 (Fz > 0 pushes the wheel up); the pad's vertical reaction is added to them under displacement
 control.
@@ -20,6 +25,7 @@ import numpy as np
 
 from elastokin.errors import ModelError
 from elastokin.physics.states import ModelState, StepState
+from elastokin.physics.steering_geometry import contact_point
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
@@ -27,6 +33,8 @@ if TYPE_CHECKING:
 #: the heave beam of the roll load case (a rig body) and its load
 HEAVE, HEAVE_LOAD = "rig:heave", "rig:heave_load"
 HELD, HEAVING = (1, 1, 1, 1, 1, 1), (1, 1, 0, 1, 1, 1)
+#: a pad holds the contact point's height, x and y free
+HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
 def names(side: str) -> dict[str, str]:
@@ -35,7 +43,7 @@ def names(side: str) -> dict[str, str]:
             "patch_force": f"rig:contact_patch_force:{side}",
             "centre_force": f"rig:wheel_centre_force:{side}",
             "centre_torque": f"rig:wheel_centre_torque:{side}",
-            "centre": f"rig:wheel_centre:{side}", "patch": f"rig:contact_patch:{side}"}
+            "centre": f"rig:wheel_centre:{side}"}
 
 
 @dataclass(frozen=True)
@@ -50,23 +58,26 @@ class WheelInputs:
 
 
 def attach_pads(model: SuspensionModel) -> None:
-    """Attach a pad and the wheel loads to every wheel of ``model`` (once)."""
+    """Attach a pad and the wheel loads to every wheel of ``model`` (once): the pad holds and
+    loads the wheel at its contact point (:mod:`elastokin.mbs.contact`)."""
+    from elastokin.mbs.contact import add_contact_load, contact_arm
+
     for side, w in model.suspension.wheels.items():
         n = names(side)
         if n["pad"] in model.supports:
             continue
-        model.add_support(n["pad"], w.part, w.contact_patch_mm, (0, 0, 1, 0, 0, 0))
-        model.add_load(n["patch_force"], w.part, w.contact_patch_mm, "force",
-                       marker_of=n["pad"])
+        model.add_support(n["pad"], contact_arm(model, side), w.contact_patch_mm, HOLD_Z)
+        add_contact_load(model, n["patch_force"], side)
         model.add_load(n["centre_force"], w.part, w.centre_mm, "force")
         model.add_load(n["centre_torque"], w.part, w.centre_mm, "torque",
                        marker_of=n["centre_force"])
         model.add_point_sensor(n["centre"], w.part, w.centre_mm)
-        model.add_point_sensor(n["patch"], w.part, w.contact_patch_mm)
 
 
 def attach_heave(model: SuspensionModel) -> None:
     """The heave beam under the contact patches and the pads on it (once)."""
+    from elastokin.mbs.contact import contact_arm
+
     if HEAVE in model.rig_bodies:
         return
     s = model.suspension
@@ -74,8 +85,8 @@ def attach_heave(model: SuspensionModel) -> None:
     model.add_rig_body(HEAVE, mid, HELD)
     model.add_load(HEAVE_LOAD, HEAVE, mid, "force")
     for side, w in s.wheels.items():
-        model.add_support(names(side)["roll_pad"], w.part, w.contact_patch_mm,
-                          (0, 0, 1, 0, 0, 0), base=HEAVE)
+        model.add_support(names(side)["roll_pad"], contact_arm(model, side), w.contact_patch_mm,
+                          HOLD_Z, base=HEAVE)
 
 
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
@@ -180,21 +191,26 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
 
 def wheel_state(model: SuspensionModel, state: ModelState, side: str,
                 displacement_control: bool, roll: bool = False) -> StepState:
-    """The rig's view of a solved model state for the wheel on ``side``: wheel centre and
-    contact patch (recorded points), spin axis and rotation from the wheel part's pose; the
-    pad force (applied, plus the pad's vertical reaction under displacement control)."""
-    w = model.suspension.wheels[side]
+    """The rig's view of a solved model state for the wheel on ``side``: wheel centre
+    (recorded point), spin axis and rotation from the wheel part's pose, the contact point
+    from both (the wheel's lowest point,
+    :func:`~elastokin.physics.steering_geometry.contact_point`, where the pad holds and loads
+    the wheel); the pad force (applied, plus the pad's vertical reaction under displacement
+    control)."""
+    s = model.suspension
+    w = s.wheels[side]
     n = names(side)
     poses = state.poses
     R = poses.rotation[w.part]
+    centre, spin = state.points[n["centre"]], R @ w.spin_axis
     pad = state.applied[n["patch_force"]].copy()
     if displacement_control:
         pad[2] += state.support_force_N[n["roll_pad" if roll else "pad"]][2]
     sens = state.sensitivity
     derivatives = None if sens is None else {
-        "wheel_centre_mm": sens.points[n["centre"]], "contact_patch_mm": sens.points[n["patch"]],
+        "wheel_centre_mm": sens.points[n["centre"]],
         "spin_axis": np.einsum("abp,b->ap", sens.rotation[w.part], w.spin_axis)}
-    return StepState(state.points[n["centre"]], R @ w.spin_axis, R, state.points[n["patch"]],
+    return StepState(centre, spin, R, contact_point(centre, spin, w.loaded_radius_mm, s.up),
                      pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
                      poses if model.options.part_poses else None, derivatives,
                      state.scalars)

@@ -24,7 +24,12 @@ from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError, SolverError
 from elastokin.mbs.design import build_model, design_state, settle_by_continuation
 from elastokin.rig.characteristics import summary_figures
-from elastokin.rig.load_cases import drives, parallel_travel_drive, run_drive
+from elastokin.rig.load_cases import (
+    drives,
+    parallel_travel_drive,
+    run_drive,
+    static_states,
+)
 from elastokin.studies.doe_sampling import (
     ClearanceJoint,
     clearance_joints,
@@ -100,24 +105,28 @@ def as_built_model_by_continuation(suspension: Suspension, shifts: dict[str, np.
     return settle_by_continuation(models)
 
 
-def travel_sweep(model, label: str = "sample", spec=None):
+def travel_sweep(model, label: str = "sample", spec=None, static=None):
     """Parallel wheel travel as the K&C job's (same stroke, same columns), the approach from
     the design position solved in steps of at most :data:`APPROACH_STEP_MM` and left out, no
     unloading: the sweep holds the stroke only (rebound to bump), as the K&C job's gradients
-    use (bump camber over the measured rows: a frictionless model's return is its stroke)."""
+    use (bump camber over the measured rows: a frictionless model's return is its stroke).
+    ``static``: the model's static states (:func:`~elastokin.rig.load_cases.static_states`;
+    solved when not given)."""
     spec = (spec or model.suspension.rig.parallel_travel).model_copy(update={"unloading": False})
     drive = parallel_travel_drive(model.suspension, spec, APPROACH_STEP_MM,
                                   record_approach=False)
-    return run_drive(model, label, drive)
+    return run_drive(model, label, drive, static=static)
 
 
 def model_characteristics(model, load_cases: str = "all", label: str = "sample") -> dict:
     """The summary characteristics (summary.json names and units) of one model: steer
     amplitude, bump steer and camber from parallel travel; with ``all`` also the wheel rate and
     the lateral, longitudinal, traction and aligning-torque compliances."""
-    sweeps = [travel_sweep(model, label)]
+    static = static_states(model)  # every load case's reference, solved once
+    sweeps = [travel_sweep(model, label, static=static)]
     if load_cases == "all":
-        sweeps += [run_drive(model, label, d) for d in drives(model.suspension)[1:]]
+        sweeps += [run_drive(model, label, d, static=static)
+                   for d in drives(model.suspension)[1:]]
     summary = summary_figures(sweeps, False)
     return {k: float(v) for k, v in summary.items()
             if isinstance(v, float) and not isinstance(v, bool)}

@@ -64,7 +64,12 @@ from elastokin.formats.kc_test_sweeps import axle_test_channels, sweep_to_test_c
 from elastokin.mbs.design import build_model
 from elastokin.physics.laws import DirectionLaw
 from elastokin.rig.channels import TEST_CHANNELS
-from elastokin.rig.load_cases import drives, run_drive_sides, static_equilibrium
+from elastokin.rig.load_cases import (
+    drives,
+    run_drive_sides,
+    static_equilibrium,
+    static_states,
+)
 from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
 
@@ -246,9 +251,10 @@ def run_real_suspension(suspension: Suspension, seed: int | None = None,
     own = real_suspension_variant(s, seed)
     for kind, ds in _runs(s):
         model = build_model(real_axle_variant(s, seed, own) if kind == "axle" else own)
+        static = static_states(model)  # the rig's zero: the real suspension at rest
         for drive in ds:
             progress(f"synthetic real suspension ({kind}): {drive.load_case}")
-            for sw in run_drive_sides(model, "test", drive):
+            for sw in run_drive_sides(model, "test", drive, static=static):
                 out.setdefault((drive.load_case, sw.side), sw)
     return [out[case, side] for case in dict.fromkeys(c for c, _ in out) for side in s.sides
             if (case, side) in out]
