@@ -1,40 +1,42 @@
 """Per-point cost of an axle's load cases against its corner's (issue 18, "Measures").
 
 For each suspension, in one run on this machine: the axle (both wheels, the config as it is)
-and its corner (the config side alone, :func:`elastokin.config.variants.corner`: the config
-without its ``axle`` section), each built once; then every load case both run (parallel
+and its corner (the config side alone, ``ek.corner``: the config without its ``axle``
+section), each built once; then every load case both run (parallel
 travel, vertical force, and the in-phase force cases) timed on both, and the axle's own cases
 (opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle.
-A load case's time is that of :func:`elastokin.rig.load_cases.run_drive_sides` (the solve
+A load case's time is that of ``ek.run_drive_sides`` (the solve
 of every step, as one ``SolveStatic``, and every channel of both wheels), best of
 ``--repeat``; per point = time / the drive's steps. The ratio axle / corner is per point of
 the same load case. Suspensions: the shipped double wishbone axle
 (configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
 (configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
 
-Prints the figures and writes them to ``benchmarks/results/bench_axle.json``, with the
-machine's load average before and after. No target: the measure the issue asks for.
+Each model's static state (the zero of every load case) is solved once, as ``elastokin kc``
+does, and not timed. Prints the figures and writes them to
+``benchmarks/results/bench_axle.json``, with the machine's load average before and after. No
+target: the measure the issue asks for. ``--quick``: parallel travel only
+(configs/rigs/travel_only.yaml), one run (bench_common).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
+import sys
 import time
 import warnings
 from pathlib import Path
 
-from elastokin.config.loading import load_suspension
-from elastokin.config.variants import corner
-from elastokin.mbs.design import build_model
-from elastokin.mbs.model import EXUDYN_VERSION
-from elastokin.rig.drives import drives
-from elastokin.rig.load_cases import run_drive_sides
-from elastokin.version import __version__
+import elastokin as ek
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import add_output_options, output_path, write_json  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+#: the rig of the quick mode (bench_common): parallel travel only, +-50 mm in 2 mm steps
+QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
 CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
            "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
 
@@ -51,20 +53,21 @@ def best_of(fn, repeat: int) -> float:
 def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
     """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s``."""
     t0 = time.perf_counter()
-    model = build_model(s)
+    model = ek.build_model(s)
     build = time.perf_counter() - t0
+    static = ek.static_states(model)  # every load case's zero, solved once (as elastokin kc)
     out = {}
-    for d in drives(s, kinematic=s.kinematic):
-        run_drive_sides(model, "bench", d)  # first run: paths and sensors set up
-        t = best_of(lambda d=d: run_drive_sides(model, "bench", d), repeat)
+    for d in ek.drives(s, kinematic=s.kinematic):
+        ek.run_drive_sides(model, "bench", d, static=static)  # paths and sensors set up
+        t = best_of(lambda d=d: ek.run_drive_sides(model, "bench", d, static=static), repeat)
         n = int(d.inputs.size)
         out[d.load_case] = {"points": n, "total_ms": 1e3 * t, "ms_per_point": 1e3 * t / n}
     return build, out
 
 
-def compare(path: Path, repeat: int) -> dict:
-    axle = load_suspension(path)
-    alone = corner(axle)
+def compare(path: Path, repeat: int, rig: Path | None = None) -> dict:
+    axle = ek.load_suspension_with_rig(path, rig)
+    alone = ek.corner(axle)
     build_axle, times_axle = load_case_times(axle, repeat)
     build_corner, times_corner = load_case_times(alone, repeat)
     ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
@@ -75,22 +78,24 @@ def compare(path: Path, repeat: int) -> dict:
             "ratio_axle_to_corner_per_point": ratios}
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_axle.json"))
-    args = ap.parse_args()
+    add_output_options(ap, "bench_axle")
+    args = ap.parse_args(argv)
+    out = output_path(args, "bench_axle")
+    repeat, rig = (1, QUICK_RIG) if args.quick else (args.repeat, None)
     load_before = os.getloadavg()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
-        figures = {name: compare(path, args.repeat) for name, path in CONFIGS.items()}
-    result = {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
+        figures = {name: compare(path, repeat, rig) for name, path in CONFIGS.items()}
+    result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
+              "quick": args.quick,
               "machine": {"python": platform.python_version(),
                           "processor": platform.machine(), "cpus": os.cpu_count()},
-              "repeat": args.repeat, "load_average_before": load_before,
+              "repeat": repeat, "load_average_before": load_before,
               "load_average_after": os.getloadavg(), "suspensions": figures}
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    write_json(out, result)
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {result['load_average_after'][0]:.2f}")
     for name, f in figures.items():
@@ -103,7 +108,7 @@ def main() -> None:
             corner_ms = f"{c['ms_per_point']:14.3f}" if c else f"{'-':>14}"
             ratio = f"{f['ratio_axle_to_corner_per_point'][case]:8.2f}" if c else f"{'-':>8}"
             print(f"  {case:<28}{a['points']:7d}{a['ms_per_point']:12.3f}{corner_ms}{ratio}")
-    print(f"\nwritten to {args.out}")
+    print(f"\nwritten to {out}")
 
 
 if __name__ == "__main__":

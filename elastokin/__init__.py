@@ -43,6 +43,7 @@ _API = {
     "with_hardpoints": "elastokin.config.variants",
     "with_bushing_laws": "elastokin.config.variants",
     "with_joint_shifts": "elastokin.config.variants",
+    "corner": "elastokin.config.variants",
     # models
     "build_model": "elastokin.mbs.design",
     "design_state": "elastokin.mbs.design",
@@ -50,12 +51,16 @@ _API = {
     # the rig
     "run_load_cases": "elastokin.rig.load_cases",
     "run_drive": "elastokin.rig.load_cases",
+    "run_drive_sides": "elastokin.rig.load_cases",
     "drives": "elastokin.rig.load_cases",
     "parallel_travel": "elastokin.rig.load_cases",
+    "parallel_travel_drive": "elastokin.rig.load_cases",
     "static_equilibrium": "elastokin.rig.load_cases",
+    "static_states": "elastokin.rig.load_cases",
     "compliance_matrix": "elastokin.rig.load_cases",
     "run_pad": "elastokin.rig.pad",
     "summary_figures": "elastokin.rig.characteristics",
+    "steer_amplitude_deg": "elastokin.rig.characteristics",
     "Sweep": "elastokin.rig.sweeps",
     "CHANNELS": "elastokin.rig.channels",
     # identification and studies
@@ -66,9 +71,19 @@ _API = {
     "run_kc_from_variants": "elastokin.studies.kc_job",
     "KCRun": "elastokin.studies.kc_job",
     "read_test_sweeps": "elastokin.formats.kc_test_sweeps",
+    "real_suspension_model": "elastokin.synthetic.real_suspension",
+    # tolerance studies (DOE)
+    "make_study": "elastokin.studies.doe",
+    "evaluate_sample": "elastokin.studies.doe",
+    "as_built_model": "elastokin.studies.doe",
+    "travel_sweep": "elastokin.studies.doe",
+    "run_dask": "elastokin.studies.doe_runner",
     # results
     "write_kc_results": "elastokin.report.files",
     "read_results": "elastokin.report.files",
+    "draw_kc_charts": "elastokin.report.files",
+    # provenance
+    "exudyn_version": "elastokin.version",
 }
 
 __all__ = ["__version__", *_API]

@@ -265,6 +265,20 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     return summary
 
 
+def draw_kc_charts(summary: dict, sweeps: list[Sweep], folder: Path, svg: bool = False
+                   ) -> list[Path]:
+    """The charts of K&C results read back (:func:`read_results`: the summary and the
+    sweeps), drawn into ``folder`` as ``elastokin kc`` draws them (PNG; with ``svg`` also
+    SVG; the axle's charts with the summary's axle figures). Returns the files written."""
+    from elastokin.report.axle_charts import axle_chart_inputs
+    from elastokin.report.charts import kc_charts
+
+    prov = {k: summary.get(k) for k in ("elastokin_version", "exudyn_version", "config_file",
+                                          "config_sha256", "rig_file", "rig_sha256", "units")}
+    return kc_charts(sweeps, Path(folder), prov, summary.get("errors"), svg,
+                     axle_chart_inputs(summary))
+
+
 def written_config(config: dict, suspension, label: str, folder: Path,
                    fit_again: bool = True) -> dict:
     """A config that ``elastokin identify`` writes into ``folder``: the model's ``label``
