@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from elastokin.config.confined import Roots, confined_path
 from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError
 
@@ -173,7 +174,17 @@ def _subsystem(p: str, subsystem, prefix: str = "") -> dict[str, str]:
     return {k: str(v).strip() for k, v in subsystem.items()}
 
 
-def _section(path: str | Path, data, key: str, side: str | None) -> AdamsMapping | None:
+def _files(p: str, bushings: dict[str, dict[str, str]], prefix: str,
+           roots: Roots) -> dict[str, Path]:
+    """The property files the ``bushings`` section names (relative to the mapping file),
+    inside ``roots``."""
+    return {n: confined_path(b["file"], Path(p).parent, roots,
+                             f"{p}: key '{prefix}bushings.{n}.file'", "property file")
+            for n, b in bushings.items() if "file" in b}
+
+
+def _section(path: str | Path, data, key: str, side: str | None,
+             roots: Roots) -> AdamsMapping | None:
     """The ``anti_roll_bar`` or ``steering`` section: a mapping of its own subsystem."""
     if data is None:
         return None
@@ -192,19 +203,27 @@ def _section(path: str | Path, data, key: str, side: str | None) -> AdamsMapping
     hps = data.get("hardpoints")
     hardpoints = _hardpoints(p, hps, f"{key}.") if hps is not None else {}
     bushings = _named(p, f"{key}.bushings", data.get("bushings"), ("file", "usage"))
+    curve = None
+    if "curve" in data:
+        curve = confined_path(data["curve"].strip(), Path(path).parent, roots,
+                              f"{p}: key '{key}.curve'", "curve file")
     return AdamsMapping(
-        p, side, hardpoints,
-        {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
+        p, side, hardpoints, _files(p, bushings, f"{key}.", roots),
         {n: b["usage"] for n, b in bushings.items() if "usage" in b}, {},
         _subsystem(p, data.get("subsystem"), f"{key}."),
         parameters={k: data.get(k, default).strip() for k, default in params.items()},
-        curve=Path(path).parent / data["curve"].strip() if "curve" in data else None)
+        curve=curve)
 
 
-def read_mapping(path: str | Path) -> AdamsMapping:
-    """Read a mapping file (YAML, see ``docs/adams.md``)."""
+def read_mapping(path: str | Path, roots: Roots | None = None) -> AdamsMapping:
+    """Read a mapping file (YAML, see ``docs/adams.md``). The files it names (bushing property
+    files, curve files, relative to its folder) must lie inside its folder or ``roots`` (the
+    databases given with it), links and ``..`` followed."""
     data, _ = read_yaml(path, "ADAMS mapping file")  # strict YAML: no key twice
     p = str(path)
+    folder = Path(path).parent
+    roots = (Roots.of([folder], f"the mapping file's folder {folder}") if roots is None
+             else roots.including([folder], f"{roots.what} and the mapping file's folder"))
     for key in data:
         if key not in _MAPPING_KEYS:
             raise _fail(p, str(key), f"unknown key (expected {', '.join(_MAPPING_KEYS)})")
@@ -217,10 +236,9 @@ def read_mapping(path: str | Path) -> AdamsMapping:
     bushings = _named(p, "bushings", data.get("bushings"), ("file", "usage"))
     springs = _named(p, "springs", data.get("springs"), ("usage",))
     return AdamsMapping(
-        p, side, hardpoints,
-        {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
+        p, side, hardpoints, _files(p, bushings, "", roots),
         {n: b["usage"] for n, b in bushings.items() if "usage" in b},
         {n: s["usage"] for n, s in springs.items()},
         _subsystem(p, data.get("subsystem")),
-        anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side),
-        steering=_section(path, data.get("steering"), "steering", side))
+        anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side, roots),
+        steering=_section(path, data.get("steering"), "steering", side, roots))
