@@ -431,7 +431,8 @@ def _convert_table(f: TeimOrbitFile, block: Block, t: Table) -> None:
             if k is None:
                 continue
             if not isinstance(row[j], float):
-                raise f.error(n, block.name, f"column {t.columns[j]} of {t.header}: "
+                named = f"row '{row[0]}': " if isinstance(row[0], str) and j else ""
+                raise f.error(n, block.name, f"{named}column {t.columns[j]} of {t.header}: "
                               f"{row[j]!r} is not a number")
             new[j] = _scaled(row[j], k)
         t.rows[i] = tuple(new)
