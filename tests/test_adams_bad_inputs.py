@@ -111,35 +111,32 @@ def test_hardpoint_given_twice_in_another_case(tmp_path):
                      f"(line {line}) again: ADAMS/Car hardpoint names are case-insensitive")
 
 
-def test_wrong_symmetry_keyword_of_a_hardpoint(tmp_path):
-    text = SUB.replace(ROW, ROW.replace("'left/right'", "'both'      "))
+@pytest.mark.parametrize("old, new, words", [
+    ("'left/right'", "'both'      ", "hardpoint 'lca_front': symmetry 'both', expected one of "
+                                     "left/right, single, left, right"),
+    ("-351.0", "-35l.0", "row 'lca_front': column y_value of {hardpoint_name symmetry x_value "
+                         "y_value z_value}: '-35l.0' is not a number"),
+], ids=["wrong symmetry keyword", "not a number"])
+def test_bad_hardpoint_row(tmp_path, old, new, words):
+    text = SUB.replace(ROW, ROW.replace(old, new))
     hardpoints_error(tmp_path, text, f"line {line_of(text, 'lca_front')}, block [HARDPOINT]: "
-                     "hardpoint 'lca_front': symmetry 'both', expected one of left/right, "
-                     "single, left, right")
+                     f"{words}")
 
 
-def test_wrong_symmetry_keyword_of_a_bushing_assembly(tmp_path):
-    db = database(tmp_path, SUB.replace("SYMMETRY  =  'left/right'", "SYMMETRY  =  'mirror'"))
+@pytest.mark.parametrize("old, new, words", [
+    ("SYMMETRY  =  'left/right'", "SYMMETRY  =  'mirror'",
+     "USAGE 'lca_bushing': SYMMETRY 'mirror', expected one of left/right"),
+    (" USAGE  =  'lca_bushing'\n", "", "USAGE = 'name' is missing"),
+], ids=["wrong symmetry keyword", "no usage"])
+def test_bad_bushing_assembly(tmp_path, old, new, words):
+    db = database(tmp_path, SUB.replace(old, new))
     sub = db / "subsystems.tbl" / "front.sub"
-    with pytest.raises(ConfigError, match=rf"^{sub}, line "
-                       rf"{line_of(sub.read_text(), 'mirror')}, block \[BUSHING_ASSEMBLY\]: "
-                       r"USAGE 'lca_bushing': SYMMETRY 'mirror', expected one of left/right"):
+    block = line_of(sub.read_text(), "[BUSHING_ASSEMBLY]")
+    line = line_of(sub.read_text(), new.strip() or "[BUSHING_ASSEMBLY]")
+    with pytest.raises(ConfigError) as exc:
         import_adams(read_yaml(WISHBONE)[0], db, db / "mapping.yaml")
-
-
-def test_hardpoint_coordinate_not_a_number(tmp_path):
-    text = SUB.replace(ROW, ROW.replace("-351.0", "-35l.0"))
-    hardpoints_error(tmp_path, text, f"line {line_of(text, 'lca_front')}, block [HARDPOINT]: "
-                     "row 'lca_front': column y_value of {hardpoint_name symmetry x_value "
-                     "y_value z_value}: '-35l.0' is not a number")
-
-
-def test_bushing_assembly_without_usage(tmp_path):
-    db = database(tmp_path, SUB.replace(" USAGE  =  'lca_bushing'\n", ""))
-    sub = db / "subsystems.tbl" / "front.sub"
-    with pytest.raises(ConfigError, match=rf"^{sub}, line \d+, block \[BUSHING_ASSEMBLY\]: "
-                                          r"USAGE = 'name' is missing"):
-        import_adams(read_yaml(WISHBONE)[0], db, db / "mapping.yaml")
+    assert str(exc.value).startswith(f"{sub}, line {line if new else block}, block "
+                                      f"[BUSHING_ASSEMBLY]: {words}"), str(exc.value)
 
 
 # ----------------------------------------------------------------------------------------------

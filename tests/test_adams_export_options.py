@@ -7,7 +7,6 @@ anything is written, naming the option or the mapping key."""
 
 from __future__ import annotations
 
-import copy
 from pathlib import Path
 
 import numpy as np
@@ -18,24 +17,12 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
 
-from .suspension_checks import assert_same_bushings
+from .suspension_checks import assert_same_bushings, scrambled
 
 DATA = Path(__file__).parent / "data"
 WISHBONE = DATA / "double_wishbone.yaml"
 MAPPING = DATA / "adams" / "double_wishbone_mapping.yaml"
 CASE = Path(__file__).parents[1] / "configs" / "pseudo_mcpherson.yaml"
-
-
-def scrambled(data: dict) -> dict:
-    """Every hardpoint moved 5 mm, every bushing 3x stiffer: all must come back."""
-    t = copy.deepcopy(data)
-    t["hardpoints"] = {k: [v[0] + 5.0, v[1] - 5.0, v[2] + 5.0] for k, v in t["hardpoints"].items()}
-    for c in t["connections"].values():
-        if c["type"] == "bushing":
-            c["stiffness"] = {d: 3.0 * v if isinstance(v, (int, float)) else
-                              {"deflection": v["deflection"], "load": [3 * x for x in v["load"]]}
-                              for d, v in c["stiffness"].items()}
-    return t
 
 
 def kc_csv(tmp_path: Path) -> Path:
