@@ -163,20 +163,24 @@ def test_subsystem_file_linked_out_of_the_database(tmp_path):
     never_opened(opened, outside)
 
 
-@pytest.mark.parametrize("key, value", [
-    ("bushings", {"lca_bushing": "../outside/secret.bus"}),
-    ("bushings", {"lca_bushing": {"file": "{outside}/secret.bus", "usage": "lca_bushing"}}),
-    ("steering", {"subsystem": {"name": "../../outside/front"}}),
-    ("anti_roll_bar", {"curve": "../../../../../../../../etc/passwd"}),
-])
-def test_mapping_file_paths_outside(tmp_path, key, value):
+@pytest.mark.parametrize("key, value, use", [
+    ("bushings", {"lca_bushing": "../outside/secret.bus"},
+     lambda db, mapping: import_adams(read_yaml(WISHBONE)[0], db, mapping)),
+    ("bushings", {"lca_bushing": {"file": "{outside}/secret.bus", "usage": "lca_bushing"}},
+     lambda db, mapping: read_mapping(mapping).bushing_file("lca_bushing")),
+    ("steering", {"subsystem": {"name": "../../outside/front"}},
+     lambda db, mapping: subsystem_files(read_mapping(mapping), hardpoints=db)),
+    ("anti_roll_bar", {"curve": "../../../../../../../../etc/passwd"},
+     lambda db, mapping: read_mapping(mapping).anti_roll_bar.curve_file()),
+], ids=["bushing file relative", "bushing file absolute", "subsystem name", "curve"])
+def test_mapping_file_paths_outside(tmp_path, key, value, use):
     outside = outside_folder(tmp_path)
     db, sub, mapping = database(tmp_path, "mdids://db/bushings.tbl/lca.bus")
     data = yaml.safe_load(mapping.read_text())
     data[key] = yaml.safe_load(yaml.safe_dump(value).replace("{outside}", str(outside)))
     mapping.write_text(yaml.safe_dump(data))
     with watching_opens() as opened, pytest.raises(ConfigError) as exc:
-        subsystem_files(read_mapping(mapping), hardpoints=db)
+        use(db, mapping)
     msg = str(exc.value)
     assert msg.startswith(f"{mapping}: key '{key}.") and "leads to" in msg, msg
     assert f"outside the mapping file's folder {db}" in msg or \

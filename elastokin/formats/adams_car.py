@@ -325,11 +325,13 @@ def bushing_sources(subsystem: str | Path, mapping: AdamsMapping, side: str,
     ``usage`` on ``side``, found in the database holding the subsystem file (and inside
     ``roots``, default that database)."""
     sub = subsystem_file(subsystem, roots=roots)
-    for name, path in mapping.bushings.items():
-        if not path.is_file():
-            raise ConfigError(f"{mapping.path}: key 'bushings.{name}': the property file "
-                              f"{path} does not exist")
-    return {**_assembly_files(sub, mapping, side, roots), **mapping.bushings,
+    named = {}
+    for name in mapping.bushings:
+        named[name] = mapping.bushing_file(name)
+        if not named[name].is_file():
+            raise ConfigError(f"{mapping.path}: key '{mapping.key}bushings.{name}.file': the "
+                              f"property file {named[name]} does not exist")
+    return {**_assembly_files(sub, mapping, side, roots), **named,
             **{k: Path(v) for k, v in (bushing_files or {}).items()}}
 
 

@@ -289,12 +289,13 @@ def _section_values(cfg: dict, section: str, sub: Path, m: AdamsMapping) -> list
     """The anti-roll bar's rate or curve, the steering's ratio or curve and travel limit."""
     spec = cfg["axle"][section] = dict(cfg["axle"][section])
     params = read_parameters(sub)
+    curve = m.curve_file()  # inside the folders given
     if section == "anti_roll_bar":
-        if m.curve is not None:
-            u, f = read_curve(m.curve, ("rot", "torque"))
+        if curve is not None:
+            u, f = read_curve(curve, ("rot", "torque"))
             spec.pop("rate_Nmm_per_deg", None)
             spec["curve"] = {"deflection": u, "load": f}
-            return [m.curve]
+            return [curve]
         spec.pop("curve", None)
         spec["rate_Nmm_per_deg"] = params.positive(m.parameters["stiffness"],
                                                    "rotational_stiffness",
@@ -302,11 +303,11 @@ def _section_values(cfg: dict, section: str, sub: Path, m: AdamsMapping) -> list
         return []
     spec["limit_mm"] = params.positive(m.parameters["travel_limit"], "length",
                                        "the rack's travel limit each way")
-    if m.curve is not None:
-        u, x = read_curve(m.curve, ("rot", "disp"))
+    if curve is not None:
+        u, x = read_curve(curve, ("rot", "disp"))
         spec.pop("ratio_mm_per_rev", None)
         spec["ratio_curve"] = {"steering_wheel_deg": u, "rack_travel_mm": x}
-        return [m.curve]
+        return [curve]
     spec.pop("ratio_curve", None)
     spec["ratio_mm_per_rev"] = rack_ratio_check(params, m.parameters["rack_ratio"])
     return []
