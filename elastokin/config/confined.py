@@ -78,7 +78,8 @@ def confined_path(named: str | Path, base: str | Path, roots: Roots, where: str,
     except OSError:
         return path  # does not exist (yet): the reader says so
     if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
-        raise error(f"{where}: {what} {shown!r} ({target}) is not a regular file")
+        raise error(f"{where}: {what} {shown!r} ({target}) is not a regular file (a FIFO or a "
+                    "device: reading it could block)")
     return path
 
 

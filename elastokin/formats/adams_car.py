@@ -1,5 +1,7 @@
-"""ADAMS/Car files in: bushing property files (``.bus``, or XML), hardpoint tables, and
-:func:`import_adams` (an elastokin config from them through a mapping file).
+"""ADAMS/Car files in: bushing property files (``.bus``, or XML), and :func:`import_adams` (an
+elastokin config from them and a hardpoint table, :mod:`elastokin.formats.adams_hardpoints`,
+through a mapping file; every file named inside the databases given,
+:mod:`elastokin.formats.adams_database`).
 
 Pure Python/numpy (no Exudyn). Values are in elastokin units (mm, N, N*mm, deg), converted on
 reading by :mod:`elastokin.formats.teimorbit`. ADAMS/Car's global frame is X rearward, Y right,
@@ -296,7 +298,8 @@ def apply_bushings(config: dict, bushings: Mapping[str, BushingProperties],
     return cfg
 
 
-def _assembly_files(sub: Path, mapping: AdamsMapping, side: str, roots) -> dict[str, Path]:
+def _assembly_files(sub: Path, mapping: AdamsMapping, side: str,
+                    roots: Roots | None) -> dict[str, Path]:
     """Bushings the mapping names by ADAMS usage only: the PROPERTY_FILE of the subsystem's
     ``[BUSHING_ASSEMBLY]`` of that usage on ``side`` (or its ``single`` one), inside
     ``roots``."""
