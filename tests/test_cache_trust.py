@@ -326,3 +326,11 @@ def test_kc_into_a_folder_with_a_planted_entry_never_runs_it(clean_run, tmp_path
     reused = json.loads((out / "summary.json").read_text())["reused_from_cache"]
     assert name not in reused and reused  # the others were reused
     assert split((out / ".cache" / f"{name}.pkl").read_bytes())[0][0] == MAGIC  # rewritten
+
+
+def test_a_cache_that_is_a_file_is_one_warning(tmp_path):
+    (tmp_path / ".cache").write_text("not a folder\n")
+    cache = ResultCache(tmp_path / ".cache", None)
+    with pytest.warns(CacheWarning, match="not a folder") as caught:
+        assert cache.get("models", "k") is None and cache.get("geometry", "k") is None
+    assert len(caught) == 1 and str(tmp_path / ".cache") in str(caught[0].message)

@@ -211,3 +211,32 @@ def test_a_linked_results_folder_is_replaced_where_it_points(tmp_path):
     assert link.is_symlink() and (target / "kc.csv").read_text() != "old\n"
     assert beside(target) == [] and sorted(p.name for p in tmp_path.iterdir()) == [
         "res_link", "shared"]
+
+
+@pytest.mark.parametrize("where", [".", ".."])
+def test_the_current_folder_as_out_is_refused_before_computing(tmp_path, monkeypatch, where):
+    """`--out .` (or a folder above): it would be replaced as a whole, under the user's
+    feet; one line naming it and what to give instead (was 'Device or resource busy' after
+    the whole computation)."""
+    (tmp_path / "here").mkdir()
+    monkeypatch.chdir(tmp_path / "here")
+    result = kc(Path(where))
+    assert result.exit_code == 1
+    assert result.output.strip() == (
+        f"elastokin: error: --out {where}: the current folder or one above it, which a run "
+        f"would replace as a whole; name a folder inside it, e.g. {Path(where) / 'results'}")
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["here"]
+
+
+def test_a_folder_where_the_lock_file_goes_is_named(tmp_path):
+    """Something that is not a lock file at `.NAME.lock` (here a folder): one line naming it,
+    the earlier results untouched."""
+    out = tmp_path / "res"
+    out.mkdir()
+    (out / "summary.json").write_text("earlier")
+    (tmp_path / ".res.lock").mkdir()
+    result = kc(out)
+    assert result.exit_code == 1
+    assert result.output.strip() == (f"elastokin: error: --out {out}: cannot write (lock file "
+                                     f"{tmp_path / '.res.lock'}: Is a directory)")
+    assert (out / "summary.json").read_text() == "earlier" and beside(out) == [".res.lock"]

@@ -63,8 +63,9 @@ class Output:
     computation."""
 
     def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
+        self.out = out  # as given: named in messages
         # a link the user gave: the results replace the folder it points to, not the link
-        self.out = Path(os.path.realpath(out)) if out.is_symlink() else out
+        self.target = Path(os.path.realpath(out)) if out.is_symlink() else out
         self.marker = marker  # a file that says the folder holds elastokin results
         self.option = option
         self.owner: int | None = None  # the staging folder's locked owner file
@@ -72,6 +73,10 @@ class Output:
     def check(self) -> None:
         """Not a file, not a foreign non-empty folder, and its folder writable."""
         out, opt = self.out, self.option
+        if Path.cwd().is_relative_to(os.path.realpath(out)):
+            raise ElastokinError(f"{opt} {out}: the current folder or one above it, which a "
+                                 "run would replace as a whole; name a folder inside it, e.g. "
+                                 f"{out / 'results'}")
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"{opt} {out}: exists and is not a folder")
         if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
@@ -81,7 +86,7 @@ class Output:
 
     def __enter__(self) -> Path:
         self.check()
-        out = self.out
+        out = self.target
         try:
             out.parent.mkdir(parents=True, exist_ok=True)
             with move_lock(out):  # not while another run moves its results in
@@ -91,7 +96,7 @@ class Output:
                 self.owner = claim(self.tmp, out)
             self.tmp.chmod(0o755)
         except OSError as exc:
-            raise cannot_write(self.option, out, exc.strerror or str(exc)) from exc
+            raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb) -> None:
@@ -109,8 +114,8 @@ class Output:
             return
         old, old_owner = None, None
         try:
-            with move_lock(self.out):
-                (self.tmp / OWNER).unlink()  # not into the results
+            with move_lock(self.target):
+                (self.tmp / OWNER).unlink(missing_ok=True)  # not into the results
                 old, old_owner = self._move_into_place()
         except OSError as exc:
             shutil.rmtree(self.tmp, ignore_errors=True)
@@ -125,16 +130,16 @@ class Output:
         ones move back (their folder kept if even that fails, so that they are never lost)."""
         old, owner = None, None
         try:
-            if self.out.exists():
-                old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old.",
-                                            dir=self.out.parent))
-                owner = claim(old, self.out)
-                self.out.rename(old / "previous")
-            self.tmp.rename(self.out)
+            if self.target.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.old.",
+                                            dir=self.target.parent))
+                owner = claim(old, self.target)
+                self.target.rename(old / "previous")
+            self.tmp.rename(self.target)
         except OSError:
             if old is not None:
                 if (old / "previous").exists():
-                    (old / "previous").rename(self.out)
+                    (old / "previous").rename(self.target)
                 shutil.rmtree(old, ignore_errors=True)  # empty: the earlier results are back
             release(owner)
             raise

@@ -49,6 +49,7 @@ OWNER = ".elastokin-owner.json"
 #: a staging folder without an owner file is removed once unchanged this long (s)
 UNOWNED_AFTER_S = 86400.0
 _CLOEXEC = getattr(os, "O_CLOEXEC", 0)
+_NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 
 
 class StagingWarning(UserWarning):
@@ -79,7 +80,10 @@ def _acquire(path: Path, timeout_s: float) -> int:
     """A descriptor of ``path`` locked by this process, ``path`` still naming it."""
     deadline = time.monotonic() + timeout_s
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | _CLOEXEC, 0o644)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | _CLOEXEC | _NOFOLLOW, 0o644)
+        except OSError as exc:
+            raise OSError(exc.errno, f"lock file {path}: {exc.strerror}") from exc
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -187,7 +191,7 @@ def remove_stale(out: Path) -> None:
 
 def _remove_if_stale(folder: Path, out: Path) -> None:
     try:
-        fd = os.open(folder / OWNER, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | _CLOEXEC)
+        fd = os.open(folder / OWNER, os.O_RDONLY | _NOFOLLOW | _CLOEXEC)
     except FileNotFoundError:
         if time.time() - folder.stat().st_mtime > UNOWNED_AFTER_S and (
                 out.exists() or not (folder / "previous").exists()):
@@ -206,7 +210,7 @@ def _remove_if_stale(folder: Path, out: Path) -> None:
         who = (f"the run (pid {info.get('pid', '?')} on {info.get('host', '?')}, started "
                f"{info.get('started', '?')}) that left it has ended")
         previous = folder / "previous"
-        if previous.is_dir() and not out.exists():
+        if previous.is_dir() and not previous.is_symlink() and not os.path.lexists(out):
             previous.rename(out)
             who += f"; it had moved the earlier results aside: they are back in {out}"
         _remove(folder, who)
