@@ -23,13 +23,15 @@ holds it, then releases it; a run that was waiting on the removed file gets the 
 no longer named ``.NAME.lock`` (the path is gone or names a newer file), sees that, and tries
 again on the path's current file. So two runs never hold the lock at once and lock files never
 pile up: at most one stays, left by a run killed while moving its results in, and the next run
-uses and removes it. Without ``fcntl`` (Windows) the lock is :mod:`filelock`'s and stale
-folders are left alone (no way to tell a live owner).
+uses and removes it. Without ``fcntl`` (Windows), or on a file system without ``flock``, the
+lock is :mod:`filelock`'s (its file stays); without ``fcntl`` stale folders are left alone (no
+way to tell a live owner).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import re
@@ -61,13 +63,18 @@ class StagingWarning(UserWarning):
 def move_lock(out: Path, timeout_s: float = 600.0):
     """Hold the lock on moving results into ``out`` (``out.parent`` must exist)."""
     path = out.parent / f".{out.name}.lock"
-    if fcntl is None:
+    try:
+        fd = _acquire(path, timeout_s) if fcntl is not None else None
+    except OSError as exc:
+        if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS):
+            raise
+        fd = None  # a file system without flock: filelock's own fallback
+    if fd is None:
         from filelock import FileLock
 
         with FileLock(path, timeout=timeout_s):
             yield
         return
-    fd = _acquire(path, timeout_s)
     try:
         yield
     finally:
