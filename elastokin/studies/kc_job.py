@@ -21,6 +21,7 @@ The result files are written by :mod:`elastokin.report`.
 from __future__ import annotations
 
 import pickle
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -45,6 +46,7 @@ from elastokin.identification.geometric import Identification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
+from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
@@ -116,6 +118,19 @@ class KCRun:
     # on comparing the models with the test, and the Python warnings of the run (add_warnings)
     warnings: list[str] = field(default_factory=list)
     reused: list[str] = field(default_factory=list)  # results taken from the cache
+
+    def summaries(self) -> dict[str, dict]:
+        """Every model's summary figures (:meth:`ModelResult.summary`); a figure not
+        determined (a slope from too few points, :func:`elastokin.physics.wheel.slope`) is
+        None and its warning, issued again, goes into the run's warnings (summary.json)."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out = {label: m.summary() for label, m in self.models.items()}
+        self.add_warnings([" ".join(str(w.message).split()) for w in caught
+                           if issubclass(w.category, UndeterminedSlopeWarning)])
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return out
 
     def add_warnings(self, messages: list[str]) -> None:
         """Add warnings issued while the run was made (e.g. by ``elastokin kc``: the Python
