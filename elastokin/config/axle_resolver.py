@@ -15,7 +15,9 @@ from elastokin.config.axle import (
     MIRROR,
     check_mirror_plane,
     check_names,
+    check_other_side_plane,
     check_shared,
+    check_track,
     declared_once,
     mirrored_bushing,
     mirrored_hardpoints,
@@ -93,8 +95,10 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_shared(corner, spec, resolver.fail)
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
+    check_other_side_plane(corner, spec, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
+    check_track(corner, other, resolver.fail)
     suffix = mirrored.suffix
     joints = corner.joints + other.joints
     steering = None

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import math
 import os
 import re
 import types
@@ -48,6 +49,14 @@ def yaml_key_path(path: tuple) -> str:
     return out.lstrip(".")
 
 
+class NumberOverflowError(yaml.MarkedYAMLError):
+    """A number in a YAML file too large for a float (``problem_mark``: its place)."""
+
+
+#: YAML tags of numbers
+_INT_TAG, _FLOAT_TAG = "tag:yaml.org,2002:int", "tag:yaml.org,2002:float"
+
+
 class StrictLoader(yaml.SafeLoader):
     """The YAML loader of every file elastokin reads: :class:`yaml.SafeLoader` refusing a key
     that appears twice in one mapping at any nesting level (:class:`DuplicateKeyError`, naming
@@ -68,6 +77,9 @@ class StrictLoader(yaml.SafeLoader):
             for i, item in enumerate(node.value):
                 self.check_unique_keys(item, (*path, i), visited)
             return
+        if isinstance(node, yaml.ScalarNode) and node.tag in (_INT_TAG, _FLOAT_TAG):
+            self.check_number(node, path)
+            return
         if not isinstance(node, yaml.MappingNode):
             return
         first: dict = {}
@@ -85,6 +97,23 @@ class StrictLoader(yaml.SafeLoader):
                 first[key] = key_node.start_mark.line + 1
             self.check_unique_keys(value_node, (*path, key_node.value if key is None else key),
                                    visited)
+
+    def check_number(self, node: yaml.ScalarNode, path: tuple) -> None:
+        """A number too large for a float (``1.0e+400``, an integer of 400 digits; ``.inf``
+        is left to the schema) raises :class:`NumberOverflowError` naming its key path."""
+        try:
+            value = float(self.construct_object(node, deep=True))
+            big = math.isinf(value) and not node.value.lstrip("+-").lower().startswith(".inf")
+        except (ValueError, OverflowError):  # an integer beyond Python's digit limit or a float's
+            big = True
+        if big:
+            text = node.value if len(node.value) <= 24 else f"{node.value[:12]}... " \
+                f"({len(node.value)} characters)"
+            where = f"key '{yaml_key_path(path)}'" if path else "the document"
+            raise NumberOverflowError(
+                problem=f"{where}: the number {text} is too large (a float holds at most "
+                        "about 1.8e308; lengths are in mm, forces in N)",
+                problem_mark=node.start_mark)
 
     def scalar_key(self, key_node: yaml.Node) -> typing.Hashable | None:
         """The constructed key of a scalar key node; None for other (complex) keys."""
@@ -127,7 +156,7 @@ def parse_yaml(text: bytes | str, source: str) -> object:
     :class:`~elastokin.errors.ConfigError` naming ``source`` and the line."""
     try:
         return yaml.load(text, Loader=StrictLoader)
-    except DuplicateKeyError as exc:
+    except (DuplicateKeyError, NumberOverflowError) as exc:
         raise ConfigError(f"{source}: line {exc.problem_mark.line + 1}: {exc.problem}") from None
     except yaml.YAMLError as exc:
         where, problem = _yaml_problem(exc, text)

@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
+from elastokin.config.plausibility import plausible
 from elastokin.config.schema_axle import AxleSpec, StopSpec
 from elastokin.config.schema_base import (
     AxisSpec,
@@ -59,6 +60,8 @@ class WheelSpec(StrictModel):
     spin_axis: AxisSpec
     loaded_radius_mm: float = Field(gt=0)
     tyre_rate_N_per_mm: float | None = Field(default=None, gt=0)  # ride rate (in series)
+
+    _plausible = field_validator("loaded_radius_mm", "tyre_rate_N_per_mm")(plausible)
 
 
 class _Joint(StrictModel):

@@ -26,6 +26,7 @@ from elastokin.errors import ConfigError, ElastokinError, SolverError
 from elastokin.mbs.design import build_model, design_state, settle_by_continuation
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.characteristics import summary_figures
+from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import drives, parallel_travel_drive, run_drive
 from elastokin.studies.doe_sampling import (
     ClearanceJoint,
@@ -194,6 +195,7 @@ def make_study(suspension: Suspension, samples: int, method: str = "lhs", seed: 
         raise ConfigError(f"--samples: {samples:,} samples; at most {MAX_SAMPLES:,} (the sample "
                           "table stays below ~100 MB, and a million as-built sweeps already "
                           "take about 5 hours on 2 cores)")
+    check_rig(suspension)  # a load case given that cannot run: a warning
     joints = clearance_joints(suspension)
     d = sum(j.dimensions for j in joints)
     u = unit_samples(method, samples, d, seed)

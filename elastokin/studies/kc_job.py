@@ -48,8 +48,10 @@ from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
+from elastokin.rig.channels import LOAD_CASE_LIST, LOAD_CASES
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
+from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import (
     StaticResult,
     run_load_cases_sides,
@@ -283,6 +285,7 @@ def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
                           "and kc_test.stiffness_identification.enabled: true")
     check_fit_on_corner(s)
     test = side_sweeps(test, s.side, s)  # the corner's wheel: the test's other wheel is not fitted
+    check_fit_test(s, test)
     return identify_stiffness(corner(start.suspension), corner_preloads(start), test,
                               s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
@@ -298,6 +301,22 @@ def check_fit_on_corner(suspension: Suspension) -> None:
             f"runs on one corner, and this axle's sides are coupled by {', '.join(couplings)}; "
             "fit the corner (the config without its 'axle' section) and give the axle its "
             "fitted laws, or set stiffness_identification.enabled: false")
+
+
+def check_fit_test(suspension: Suspension, test: list[Sweep]) -> None:
+    """The stiffness fit runs the corner's load cases of the test data: the test sweeps of
+    the config's wheel hold at least one (else one error naming the test folder)."""
+    if any(LOAD_CASES[sw.load_case].corner for sw in test):
+        return
+    s = suspension
+    folder = Path(s.source).parent / s.kc_test.folder
+    held = ", ".join(dict.fromkeys(sw.load_case for sw in test)) or "none"
+    corner_cases = ", ".join(c.name for c in LOAD_CASE_LIST if c.corner)
+    raise ConfigError(
+        f"{s.source}: key 'kc_test.stiffness_identification': the stiffness fit runs the "
+        f"corner load cases of the test data ({corner_cases}), and the K&C test files in "
+        f"{folder} hold none for the {s.side} wheel (they hold: {held}); add such a file or "
+        "set stiffness_identification.enabled: false")
 
 
 def corner_preloads(variant: ModelVariant) -> DesignState:
@@ -353,7 +372,11 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
+    check_rig(suspension)  # a load case given that cannot run: a warning
     check_fit_on_corner(suspension)
+    if test and fits_stiffness(suspension) and (models is None
+                                                or "identified_stiffness" in models):
+        check_fit_test(suspension, side_sweeps(test, suspension.side, suspension))
     ident = geometry(suspension, progress, cache)
     fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
                           *map(Path, files))
