@@ -63,7 +63,22 @@ def steering_ratio(spec: SteeringSpec, fail) -> DirectionLaw:
     try:
         return DirectionLaw(tuple(c.steering_wheel_deg), tuple(c.rack_travel_mm))
     except ValueError as exc:
-        raise fail("axle.steering.ratio_curve", str(exc)) from None
+        raise fail("axle.steering.ratio_curve", curve_problem(
+            str(exc), "steering_wheel_deg", "rack_travel_mm")) from None
+
+
+def curve_problem(message: str, x: str, y: str) -> str:
+    """A law's complaint (:class:`~elastokin.physics.laws.DirectionLaw`, worded for a bushing
+    curve's deflection and load) in the terms of another curve, ``y`` against ``x``: it
+    increases strictly through (0, 0) (the pinion's sense is found from the geometry, the bar
+    twists both ways)."""
+    if "at zero deflection" in message:
+        return f"{y} must be 0 where {x} is 0 (the curve passes through (0, 0))"
+    if "deflections must be strictly increasing" in message:
+        return f"{x} must be strictly increasing"
+    if "strictly increasing" in message:
+        return f"{y} must increase strictly with {x}"
+    return message
 
 
 def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:

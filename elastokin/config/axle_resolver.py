@@ -18,6 +18,7 @@ from elastokin.config.axle import (
     check_other_side_plane,
     check_shared,
     check_track,
+    curve_problem,
     declared_once,
     mirrored_bushing,
     mirrored_hardpoints,
@@ -172,7 +173,8 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
         try:
             law = law_from_spec(a.curve)
         except ValueError as exc:
-            raise resolver.fail(key + ".curve", str(exc)) from None
+            raise resolver.fail(key + ".curve", curve_problem(
+                str(exc), "deflection (deg of twist)", "load (N*mm)")) from None
     return AntiRollBar((part, part + suffix), pos, frame_from_z(axis), law)
 
 

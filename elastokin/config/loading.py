@@ -279,6 +279,10 @@ def _problem(e: dict, data: object, root: type[BaseModel] | None,
     msg = re.sub(r" or instance of \w+", "", msg)
     if kind == "missing":
         msg = "required key is missing"
+        if loc and isinstance(loc[-1], int):  # a tuple too short: [x, y] for a point
+            msg = f"item [{loc[-1]}] is missing: the list has too few items"
+    if kind == "tuple_type":
+        msg = "expected a list (YAML [a, b, ...]; a point is [x, y, z] in mm)"
     return path, msg
 
 

@@ -45,6 +45,13 @@ class ConnectionOverride(StrictModel):
 
     stiffness: StiffnessOverride
 
+    @model_validator(mode="after")
+    def _something(self) -> ConnectionOverride:
+        if not self.stiffness.model_fields_set:
+            raise ValueError("stiffness: give at least one direction (x, y, z, rx, ry, rz) "
+                             "the other side's bushing changes")
+        return self
+
 
 class OtherSideSpec(StrictModel):
     """The other corner is this one mirrored about the vehicle centre plane (y = 0 of the
