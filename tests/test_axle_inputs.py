@@ -104,6 +104,8 @@ CASES = [
      "wheel.tyre_rate_N_per_mm", ["411121 - in N/m?"]),
     ("loaded radius in metres", _set("wheel.loaded_radius_mm", 0.4539),
      "wheel.loaded_radius_mm", ["0.4539 - in metres?"]),
+    ("hardpoint far beyond the car", _set("hardpoints.lca_outer", [-36.0, 1e30, -118.0]),
+     "hardpoints.lca_outer[1]", ["1e+30 mm: a point more than 1,000,000 mm from the origin"]),
     ("origin off the centre plane", _offset_origin, "wheel.centre",
      ["design track", "7820", "origin on the vehicle centre plane"]),
     # curves in the terms of the steering, not of a bushing
@@ -162,6 +164,19 @@ def test_a_steering_amplitude_from_a_rig_file_is_the_rig_files(tmp_path):
     with pytest.raises(ConfigError, match=rf"^{rig} \(rig file\): key 'steering\."
                        r"amplitude_deg': 700 deg takes the rack beyond its travel limit"):
         steering_drive(s, s.rig.steering)
+
+
+def test_a_rig_files_step_too_fine_for_the_configs_wheel_load_is_the_rig_files(tmp_path):
+    """The step count of the vertical-force approach depends on the config's wheel load: the
+    rig file's key is named, not the config's rig section (which the rig file replaced)."""
+    d = config("double_wishbone_axle.yaml")
+    d["design"]["wheel_load_N"] = 45000.0
+    cfg, rig = tmp_path / "axle.yaml", tmp_path / "fine.yaml"
+    cfg.write_text(yaml.safe_dump(d))
+    rig.write_text("vertical_force: {min_N: 1000, max_N: 7500, step_N: 0.2}\n")
+    with pytest.raises(ConfigError, match=rf"^{rig} \(rig file\): key 'vertical_force\."
+                       r"step_N': 0\.2 N gives 285,000 steps from design\.wheel_load_N 45000"):
+        load_suspension_with_rig(cfg, rig)
 
 
 def test_a_load_case_given_that_cannot_run_is_warned_about():

@@ -370,8 +370,9 @@ def _load(path: str | Path, overrides: dict | None,
     s = suspension_from_dict(data, str(path), _digest(text, every),
                              config_sha256=_digest(text, overrides),
                              rig_sha256=None if rig_file is None
-                             else hashlib.sha256(rig_file[2]).hexdigest())
-    return s if rig_file is None else replace(s, rig_source=rig_file[0])
+                             else hashlib.sha256(rig_file[2]).hexdigest(),
+                             rig_source="" if rig_file is None else rig_file[0])
+    return s
 
 
 def read_rig(path: str | Path) -> tuple[dict, bytes]:
@@ -409,21 +410,27 @@ def load_suspension_with_rig(config_path: str | Path, rig_path: str | Path | Non
 
 
 def suspension_from_dict(data: Mapping, source: str = "<dict>", sha256: str = "", *,
-                         config_sha256: str = "", rig_sha256: str | None = None
-                         ) -> Suspension:
+                         config_sha256: str = "", rig_sha256: str | None = None,
+                         rig_source: str = "") -> Suspension:
     """Validate a config mapping and resolve names, axes and laws (see module docstring).
 
     ``data`` may hold numpy scalars and arrays, tuples and read-only mappings (a
     suspension's ``raw``): they are taken as the plain YAML types first. ``sha256``: what
-    identifies the inputs (default: the SHA-256 of the mapping as YAML); ``config_sha256`` and
-    ``rig_sha256`` as :class:`~elastokin.config.suspension.Suspension` says."""
+    identifies the inputs (default: the SHA-256 of the mapping as YAML); ``config_sha256``,
+    ``rig_sha256`` and ``rig_source`` (a rig file whose load cases are ``data['rig']``: its
+    keys' errors name it) as :class:`~elastokin.config.suspension.Suspension` says."""
     data = plain_data(data)
     try:
         spec = SuspensionFile.model_validate(data)
     except ValidationError as err:
-        raise ConfigError(format_validation_error(source, err, data, SuspensionFile)) from None
+        message = format_validation_error(source, err, data, SuspensionFile)
+        rig_key = f"{source}: key 'rig."
+        if rig_source and message.startswith(rig_key):  # e.g. steps from the design load
+            message = f"{rig_source} (rig file): key '{message[len(rig_key):]}"
+        raise ConfigError(message) from None
     if not sha256:
         sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
-    return resolve_suspension(Resolver(spec, source), sha256, data, config_sha256, rig_sha256)
+    s = resolve_suspension(Resolver(spec, source), sha256, data, config_sha256, rig_sha256)
+    return replace(s, rig_source=rig_source) if rig_source else s
 
 

@@ -18,6 +18,7 @@ from elastokin.config.schema_axle import AxleSpec, StopSpec
 from elastokin.config.schema_base import (
     AxisSpec,
     CurveSpec,
+    Point3,
     PointSpec,
     StrictModel,
     Vector3,
@@ -385,7 +386,7 @@ class SuspensionFile(StrictModel):
     frame: Frame
     side: Literal["left", "right"]
     ground: str
-    hardpoints: dict[str, Vector3]
+    hardpoints: dict[str, Point3]
     parts: dict[str, PartSpec]
     wheel: WheelSpec
     connections: dict[str, ConnectionSpec]

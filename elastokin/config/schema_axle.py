@@ -12,7 +12,7 @@ from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
 from elastokin.config.plausibility import fraction, plausible
-from elastokin.config.schema_base import AxisSpec, CurveSpec, PointSpec, StrictModel, Vector3
+from elastokin.config.schema_base import AxisSpec, CurveSpec, Point3, PointSpec, StrictModel
 
 
 class StopSpec(StrictModel):
@@ -58,7 +58,7 @@ class OtherSideSpec(StrictModel):
     config frame); these entries, by the corner's names, make it asymmetric: where the other
     side's hardpoints are (config frame, mm), and its bushings' stiffness."""
 
-    hardpoints: dict[str, Vector3] = {}
+    hardpoints: dict[str, Point3] = {}
     connections: dict[str, ConnectionOverride] = {}
 
 
