@@ -46,7 +46,7 @@ class ConnectionOverride(StrictModel):
     stiffness: StiffnessOverride
 
     @model_validator(mode="after")
-    def _something(self) -> ConnectionOverride:
+    def _changes_something(self) -> ConnectionOverride:
         if not self.stiffness.model_fields_set:
             raise ValueError("stiffness: give at least one direction (x, y, z, rx, ry, rz) "
                              "the other side's bushing changes")
