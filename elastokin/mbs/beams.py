@@ -40,11 +40,10 @@ from exudyn.rigidBodyUtilities import RotationMatrix2RotXYZ, RotXYZ2G
 from elastokin.config.suspension import Beam
 from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
+from elastokin.physics.beams import NODE_TOLERANCE_MM
 
-__all__ = ["BeamBody", "NODE_TOLERANCE_MM"]
+__all__ = ["BeamBody", "NOISE_FACTOR"]
 
-#: a point within this distance (mm) of a named node is that node
-NODE_TOLERANCE_MM = 1e-6
 #: round-off of one residual evaluation, relative to its largest term
 ROUND_OFF = 2.2e-16
 #: the Newton tolerance of a model with beams is this many times the beams' round-off floor

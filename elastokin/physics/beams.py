@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+#: a point within this distance (mm) of a beam's node is that node
+NODE_TOLERANCE_MM = 1e-6
 #: a section z axis closer than this to the segment's direction (sine of the angle) is refused
 MIN_SECTION_SINE = np.sin(np.radians(1.0))
 
