@@ -14,10 +14,9 @@ load: ``rise``). Units mm, N, N*mm, deg.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
+from elastokin.config.confined import data_file, data_folder
 from elastokin.config.suspension import Suspension
 from elastokin.errors import MeasurementError
 from elastokin.formats.kc_test import KCTest, read_kc_test
@@ -143,14 +142,16 @@ def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
     spec = s.kc_test
     if spec is None:
         return [], []
-    folder = Path(s.source).parent / spec.folder
+    folder = data_folder(s, "kc_test")
     for case in spec.files:
         if case not in LOAD_CASES:
             raise MeasurementError(f"{s.source}: key 'kc_test.files.{case}': unknown load case "
                                    f"(expected one of {', '.join(LOAD_CASES)})")
     sweeps, files = [], []
     for case in LOAD_CASES:
-        path = folder / spec.files.get(case, f"{case}.csv")
+        # inside the config's folders, links followed (the folder may come from anyone)
+        key = f"kc_test.files.{case}" if case in spec.files else "kc_test.folder"
+        path = data_file(s, "kc_test", spec.files.get(case, f"{case}.csv"), key)
         if not path.exists():
             if case in spec.files:
                 raise MeasurementError(f"{s.source}: key 'kc_test.files.{case}': file {path} "

@@ -40,6 +40,7 @@ from elastokin.config.variants import (
     side_couplings,
 )
 from elastokin.errors import ConfigError
+from elastokin.formats.cmm_parts import measurement_paths
 from elastokin.formats.kc_test_sweeps import read_test_sweeps, side_sweeps
 from elastokin.identification.geometric import Identification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
@@ -131,12 +132,7 @@ def test_data(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
 
 def measurement_files(suspension: Suspension) -> list[Path]:
     """The CMM files the config's ``measurements`` section names (for the cache key)."""
-    m = suspension.measurements
-    if m is None:
-        return []
-    folder = Path(suspension.source).parent / m.folder
-    names = [spec.file for spec in m.parts.values()] + [m.assembly.file]
-    return [folder / n for n in names + ([m.truth] if m.truth else [])]
+    return list(measurement_paths(suspension).values())
 
 
 def geometry(suspension: Suspension, progress: Progress = _quiet,
