@@ -234,23 +234,24 @@ def test_a_reused_canvas_draws_the_pair_as_a_new_one(sweeps, tmp_path):
 
 
 def opposite_travel(model: str) -> Sweep:
-    """A dependent axle's opposite wheel travel (the config side's wheel) with its roll
-    centre."""
+    """Opposite wheel travel of an axle joined by a flexible beam (the config side's wheel)
+    with its roll centre."""
     sw = travel(model, "left")
     return Sweep(model, "opposite_travel", {**sw.columns, "roll_centre_height_mm":
                                             200.0 - 0.2 * sw.columns["wheel_travel_mm"]},
                  side="left")
 
 
-def test_roll_centre_height_in_roll_on_a_dependent_axle(sweeps):
-    """On a dependent axle (a twist beam) the kinematic roll centre comes from opposite wheel
-    travel: the parallel-travel chart is left out, the opposite-travel one drawn."""
-    dependent = [sw for sw in sweeps if sw.load_case != "parallel_travel"]
-    dependent += [opposite_travel("initial")]
-    assert axle_chart_data(AXLE_CHARTS["roll_centre_height_vs_travel"], dependent,
+def test_roll_centre_height_in_roll_on_a_twist_beam(sweeps):
+    """On an axle joined by a flexible beam (a twist beam) the kinematic roll centre comes
+    from opposite wheel travel: the parallel-travel chart is left out, the opposite-travel one
+    drawn."""
+    twist = [sw for sw in sweeps if sw.load_case != "parallel_travel"]
+    twist += [opposite_travel("initial")]
+    assert axle_chart_data(AXLE_CHARTS["roll_centre_height_vs_travel"], twist,
                            INPUTS) is None
     spec = AXLE_CHARTS["roll_centre_height_vs_opposite_travel"]
-    data = axle_chart_data(spec, dependent, INPUTS)
+    data = axle_chart_data(spec, twist, INPUTS)
     (model, legend, x, y), = data.panels[0].lines
     assert np.allclose(y, 200.0 - 0.2 * x) and x.size == 41
     assert legend == "initial: kinematic at static 100.0 mm, force-based 101.5 mm"

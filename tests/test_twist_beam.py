@@ -127,8 +127,8 @@ def test_parallel_travel_is_that_of_a_rigid_cross_beam():
     each wheel moves as on a rigid axle turning about the line through the two pivots' ball
     joints (y, by symmetry). That rotation, found for each step from the wheel centre's
     height (written here), gives its fore-aft and lateral position and the contact patch's
-    height (the pad's), and leaves toe and camber at the design's. 2e-4 mm: the Newton
-    solver's absolute tolerance with this beam (above its round-off floor, 1.9e-4), to
+    height (the pad's), and leaves toe and camber at the design's. 2e-4 mm: twice the Newton
+    solver's absolute tolerance with this beam (9.7e-5, 100 times its round-off floor), to
     which the joints close; a load on the beam moves the wheel by tenths of a mm."""
     data = config()
     data["springs"], data["stops"] = {}, {}
@@ -183,7 +183,7 @@ def test_maxwell_betti_on_the_bushed_axle(bushed):
 
 
 def test_roll_centre_and_roll_steer_in_roll():
-    """A dependent axle's kinematic roll centre comes from opposite wheel travel; with every
+    """The twist beam's kinematic roll centre comes from opposite wheel travel; with every
     bushing an ideal joint it is ADAMS/Car's force-based one (opposing vertical forces, the
     12x12 compliance) to 1 mm. The roll test's roll camber is ADAMS/Car's (SVCROL, from the
     compliance) to 0.5 %; its roll steer, the heading of the spin axis, is the compliance's
@@ -210,7 +210,7 @@ def test_roll_centre_and_roll_steer_in_roll():
         opposite["pad_z_mm"] == 0.0)[0]]
     assert kinematic_rc == pytest.approx(force_based, abs=1.0)
     assert 150.0 < kinematic_rc < 250.0  # between the ground and the beam's shear centre
-    # parallel travel: no kinematic roll centre for a dependent axle
+    # parallel travel: no kinematic roll centre for an axle joined by a flexible beam
     assert "roll_centre_height_mm" not in sweeps["parallel_travel"]["left"].columns
     cols = sweeps["roll_vertical_force"]["left"].columns
     steer, camber = (np.polyfit(cols["roll_angle_deg"], cols[c], 1)[0]

@@ -1,6 +1,6 @@
 """The beam section of a part (pydantic): a flexible part made of beam elements, its nodes at
 named hardpoints on its centroid line, its mesh and its cross-section's stiffness. Units mm, N,
-N*mm^2; the config frame (README "Flexible beam parts").
+N*mm^2; the config frame (docs/beams.md).
 """
 
 from __future__ import annotations

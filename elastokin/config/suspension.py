@@ -359,17 +359,13 @@ class Suspension:
         return replace(self, side=side, wheel=self.wheels[side])
 
     @property
-    def dependent_parts(self) -> tuple[str, ...]:
-        """The shared parts of an axle that move with the wheels: a twist beam's cross beam, a
-        solid axle; not the steering rack (the rig holds it in travel) nor a shared part held
-        by a fixed or rack joint to the ground. With one, the axle is dependent: its wheels
-        move in roll otherwise than in bump."""
+    def shared_beams(self) -> tuple[str, ...]:
+        """The flexible beam parts shared by both sides of an axle (a twist beam's cross
+        beam): the wheels' motion in roll is then set by the beam's elasticity, not by the
+        joints, and differs from their motion in bump."""
         if self.axle is None:
             return ()
-        held = {self.axle.steering.part} if self.axle.steering is not None else set()
-        held |= {p for j in self.joints if self.ground in j.parts and all(j.constrained)
-                 for p in j.parts}
-        return tuple(p for p in self.axle.shared if p not in held)
+        return tuple(b.part for b in self.beams if not b.rigid and b.part in self.axle.shared)
 
     @property
     def forward(self) -> np.ndarray:

@@ -492,6 +492,6 @@ class SuspensionModel:
             "user_functions": self.options.user_functions,
             "kinematic": self.suspension.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
-            **({"beam_elements": {p: len(b.elements) for p, b in self.beams.items()}}
-               if self.beams else {}),
+            **({"beam_elements": {p: b.beam.elements_per_segment * (len(b.beam.nodes_mm) - 1)
+                                  for p, b in self.beams.items()}} if self.beams else {}),
         }

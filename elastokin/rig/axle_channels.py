@@ -35,8 +35,8 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
     """The axle's columns of one load case (the same in every wheel's sweep):
     ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
     ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel (in opposite wheel travel on
-    a dependent axle, :attr:`~elastokin.config.suspension.Suspension.dependent_parts`) the
-    kinematic ``roll_centre_height_mm`` (above the contact points' mean height) and
+    an axle joined by a flexible beam: ``Suspension.shared_beams``) the kinematic
+    ``roll_centre_height_mm`` (above the contact points' mean height) and
     ``roll_centre_lateral_mm`` (ISO y, + left)."""
     s = suspension
     T = iso_rotation(s)
@@ -56,9 +56,9 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
     if "arb:twist_deg" in first[0].scalars:
         cols["arb_twist_deg"] = np.array([st.scalars["arb:twist_deg"] for st in first])
         cols["arb_torque_Nmm"] = np.array([st.scalars["arb:torque_Nmm"] for st in first])
-    # the kinematic roll centre from the wheels' motion in bump, or on a dependent axle
-    # (a shared part moving with both wheels: a twist beam) in roll
-    in_roll = bool(s.dependent_parts)
+    # the kinematic roll centre from the wheels' motion in bump, or on an axle joined by a
+    # flexible beam (a twist beam, whose elasticity sets the motion in roll) in roll
+    in_roll = bool(s.shared_beams)
     if drive.load_case == ("opposite_travel" if in_roll else "parallel_travel"):
         cols.update(roll_centre_columns(patch, np.asarray(drive.branch)))
     return cols
