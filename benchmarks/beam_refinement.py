@@ -118,6 +118,7 @@ def chart(rows: list[dict], reference: dict[str, float], shipped: int, path: Pat
     cost.plot(m, [r["ms_per_step"] for r in rows], marker="o", color="tab:red")
     cost.axvline(shipped, color="black", linewidth=1.0, alpha=0.5)
     cost.set_xscale("log", base=2)
+    cost.set_yscale("log")
     cost.set_xticks(m, [str(v) for v in m])
     cost.set_xlabel("beam elements per segment")
     cost.set_ylabel("ms per rig step (the whole run: both wheels, every channel)")
@@ -157,23 +158,30 @@ def main() -> None:
                                          / "beam_refinement.json"))
     ap.add_argument("--chart", default=str(ROOT / "docs" / "images"
                                            / "twist_beam_refinement.png"))
+    ap.add_argument("--replot", action="store_true",
+                    help="draw the chart and print the table of the JSON at --out, no runs")
     args = ap.parse_args()
-    meshes = (1, 2) if args.quick else MESHES
-    load_before = os.getloadavg()
-    rows = [run(n, args.quick) for n in meshes]
-    reference = converged(rows)
-    result = {"elastokin_version": __version__, "config": str(CONFIG.relative_to(ROOT)),
-              "quick": args.quick, "load_average_before": load_before,
-              "load_average_after": os.getloadavg(), "converged": reference,
-              "meshes": rows}
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    if args.replot:
+        result = json.loads(Path(args.out).read_text())
+        rows, reference = result["meshes"], result["converged"]
+    else:
+        meshes = (1, 2) if args.quick else MESHES
+        load_before = os.getloadavg()
+        rows = [run(n, args.quick) for n in meshes]
+        reference = converged(rows)
+        result = {"elastokin_version": __version__, "config": str(CONFIG.relative_to(ROOT)),
+                  "quick": args.quick, "load_average_before": load_before,
+                  "load_average_after": os.getloadavg(), "converged": reference,
+                  "meshes": rows}
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(table(rows, reference))
     if not args.quick:
         shipped = read_yaml(CONFIG)[0]["parts"]["cross_beam"]["beam"]["elements_per_segment"]
         chart(rows, reference, shipped, Path(args.chart))
         print(f"chart: {args.chart}")
-    print(f"written to {args.out}")
+    if not args.replot:
+        print(f"written to {args.out}")
 
 
 if __name__ == "__main__":
