@@ -1,0 +1,311 @@
+"""Virtual CMM of a motion plan (the config's ``motion`` section): the marks of every part of
+the synthetic as-built suspension measured on the assembled car at each rig position.
+
+The as-built suspension is the one of the CMM files (:mod:`.virtual_cmm`: the same clearance
+shifts, drawn from ``measurements.synthetic.seed``; without a ``measurements`` section the
+nominal suspension). Each position is solved as the rig holds it: the design position under
+the design wheel load (force control, as the CMM files measure it), the others with the pad
+at ``wheel_travel_mm`` (displacement control, x and y free) and the steering rack at
+``rack_travel_mm``, reached quasi-statically from the design position. A corner whose tie rod
+is on the ground (steering locked) is steered on a synthetic rack under the ``rack_link``'s
+ground end, along the vehicle's left (ISO y). A marked link (the tie rod) turns without spin
+about its own axis; the wheel's marks turn with the wheel part and ``wheel_turned_deg`` about
+its spin axis.
+
+Written (``motion.folder``), IGES and CSV: the ground's marks in the config frame, one file
+per position with every body's marks in the CMM's frame (one frame for all positions: the CMM
+stays put), each body's marks in scrambled order, one mark of one body at one position 5-15 mm
+wrong; ``truth.yaml``: the true joints and axes at the design position, every body's true
+marks (design position, config frame) and pose at every position. CMM noise as in
+:mod:`.virtual_cmm`. Everything is drawn from ``numpy.random.default_rng(motion.synthetic.
+seed)`` in a fixed order: a config and a seed give the same bytes. Units mm, deg.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import yaml
+from scipy.spatial.transform import Rotation
+
+from elastokin.config.loading import suspension_from_dict
+from elastokin.config.measurements import check_motion
+from elastokin.config.schema import LinkSpec, SuspensionFile
+from elastokin.config.schema_motion import MotionSpec, MotionSyntheticSpec
+from elastokin.config.suspension import Suspension
+from elastokin.config.variants import corner, side_couplings
+from elastokin.errors import ConfigError
+from elastokin.formats.cmm import write_points
+from elastokin.formats.cmm_motion import WHEEL, mark_patterns
+from elastokin.mbs.axle_elements import STEERING_LOCK
+from elastokin.mbs.design import build_model, design_state
+from elastokin.physics.pose import frame_from_z
+from elastokin.rig.load_cases import static_equilibrium
+from elastokin.rig.pad import WheelInputs, run_rig
+from elastokin.synthetic.virtual_cmm import (
+    CHI3_95,
+    AsBuilt,
+    as_built,
+    clearance_shifts,
+    features_and_truth,
+    mark_labels,
+    place_marks,
+    random_in_ball,
+    random_rotation,
+    rounded,
+)
+
+RACK_PART = "synthetic_rack"  # the rack a corner with its steering locked is steered on
+MAX_STEP_MM = 5.0  # largest step of pad or rack between solved rig states
+
+
+def steerable(s: Suspension, motion: MotionSpec) -> tuple[Suspension, tuple | None]:
+    """``s`` with a rack the rig can move: its own rack joint, or a synthetic one under the
+    ``rack_link``'s ground end, made a sliding joint; returns it and the rack (part, position,
+    axis) or None when no position steers."""
+    if not any(p.rack_travel_mm for p in motion.positions.values()):
+        return s, None
+    rack = next((j for j in s.joints if j.kind == "rack"), None)
+    if rack is None:
+        raw = copy.deepcopy(s.raw)
+        link = raw["connections"][motion.rack_link]
+        end = link["at"][list(link["parts"]).index(s.ground)]
+        link["parts"] = [RACK_PART if p == s.ground else p for p in link["parts"]]
+        raw["parts"][RACK_PART] = {"description": "synthetic steering rack"}
+        raw["connections"][RACK_PART + "_slide"] = {"type": "rack", "parts": [s.ground, RACK_PART],
+                                         "at": end, "axis": [float(v) for v in s.left]}
+        s = dataclasses.replace(suspension_from_dict(raw, s.source, s.sha256), source=s.source)
+        rack = next(j for j in s.joints if j.kind == "rack")
+    return s, (rack.parts[1], rack.position_mm, rack.frame[:, 2])
+
+
+def position_poses(built: AsBuilt, rack, motion: MotionSpec) -> dict[str, object]:
+    """The as-built suspension's part poses at every position (name -> PartPoses)."""
+    poses = {}
+    sliding = built.suspension
+    if rack is not None:  # the rack slides, held by the rig's steering lock
+        sliding = dataclasses.replace(sliding, joints=tuple(
+            dataclasses.replace(j, constrained=(1, 1, 0, 1, 1, 1)) if j.kind == "rack" else j
+            for j in sliding.joints))
+
+    def model():
+        m = build_model(dataclasses.replace(built.variant(), suspension=sliding))
+        if rack is not None:
+            m.add_support(STEERING_LOCK, rack[0], rack[1], (0, 0, 1, 0, 0, 0),
+                          frame=frame_from_z(rack[2]), lock=np.zeros(6))
+        return m
+
+    design = model()
+    static_equilibrium(design)
+    design_poses = design.part_poses()
+    states = sorted({(p.rack_travel_mm, p.wheel_travel_mm) for p in motion.positions.values()})
+    path, index = [np.zeros(2)], {}
+    for state in states:
+        start = path[-1]
+        n = int(np.ceil(np.max(np.abs(np.array(state) - start)) / MAX_STEP_MM))
+        path += [start + (np.array(state) - start) * (i / n) for i in range(1, n + 1)]
+        index[state] = len(path) - 1
+    path = np.array(path)
+    m = model()
+    side = m.suspension.side
+    steps = run_rig(m, {side: WheelInputs(path[:, 1], np.zeros((len(path), 3)),
+                                          np.zeros((len(path), 6)))},
+                    rack_travel_mm=path[:, 0] if rack is not None else None,
+                    what="virtual CMM: the rig positions of the motion plan")
+    for name, p in motion.positions.items():
+        poses[name] = design_poses if p.is_design else steps[
+            index[(p.rack_travel_mm, p.wheel_travel_mm)]][side].poses
+    return poses
+
+
+def _link_transform(s: Suspension, rack, link: LinkSpec, poses) -> np.ndarray:
+    """A link's pose (4x4, from the design position): its ends where the parts put them,
+    turned without spin about its own axis (the smallest rotation of its axis)."""
+    x0, x1 = (np.asarray(s.hardpoints[a], float) for a in link.at)
+    on_rack = rack is not None and rack[0] == RACK_PART
+    p0, p1 = (poses.moved(RACK_PART if on_rack and p == s.ground else p, x)
+              for p, x in zip(link.parts, (x0, x1)))
+    d0, d1 = (x1 - x0) / np.linalg.norm(x1 - x0), (p1 - p0) / np.linalg.norm(p1 - p0)
+    axis = np.cross(d0, d1)
+    angle = np.arctan2(np.linalg.norm(axis), d0 @ d1)
+    R = Rotation.from_rotvec(axis / max(np.linalg.norm(axis), 1e-300) * angle).as_matrix()
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p0 - R @ x0
+    return T
+
+
+def body_transforms(s: Suspension, rack, motion: MotionSpec, poses) -> dict[str, np.ndarray]:
+    """Every marked body's pose (4x4, design position -> this position; config frame)."""
+    spec = SuspensionFile.model_validate(s.raw)
+    out = {}
+    for body in motion.marks:
+        if body in spec.connections:
+            out[body] = _link_transform(s, rack, spec.connections[body], poses)
+        else:
+            out[body] = poses.transform(body) if body != s.ground else np.eye(4)
+    return out
+
+
+def _wheel_transform(s: Suspension, poses, turned_deg: float) -> np.ndarray:
+    """The wheel's pose: the wheel part's, turned about the spin axis through the centre."""
+    w = s.wheel
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_rotvec(np.radians(turned_deg) * w.spin_axis).as_matrix()
+    T[:3, 3] = w.centre_mm - T[:3, :3] @ w.centre_mm
+    return poses.transform(w.part) @ T
+
+
+def body_points(s: Suspension, motion: MotionSpec) -> dict[str, list[np.ndarray]]:
+    """The points marks are placed around, per body (config frame, design position): its
+    joints, seats and wheel centre; a link's ends; the wheel's centre."""
+    hp = s.hardpoints
+    pts: dict[str, list[np.ndarray]] = {b: [] for b in mark_patterns(motion)}
+    spec = SuspensionFile.model_validate(s.raw)
+    for name, c in spec.connections.items():
+        ats = c.at if isinstance(c, LinkSpec) else (c.at, c.at)
+        for part, at in zip(c.parts, ats):
+            for body in (part, name):
+                if body in pts and isinstance(at, str):
+                    pts[body].append(np.asarray(hp[at], float))
+    for sp in s.springs:
+        for part, x in zip(sp.parts, sp.seats_mm):
+            if part in pts:
+                pts[part].append(np.asarray(x, float))
+    for body in (s.wheel.part, WHEEL):
+        if body in pts:
+            pts[body].append(np.asarray(s.wheel.centre_mm, float))
+    return pts
+
+
+def _truth(s: Suspension, built: AsBuilt, poses) -> tuple[dict, dict]:
+    """The true joints (as the CMM files' truth; without clearance: every joint where its
+    parts put it) and axes at the design position: revolute, cylindrical and universal
+    joints, revolute bushings and the wheel (``wheel``: centre and spin axis)."""
+    spec = SuspensionFile.model_validate(s.raw)
+    if s.measurements is not None:
+        points = features_and_truth(s, spec, poses, built.housing_mm, built.shifts_mm)[1]
+    else:
+        points = {}
+        for name, c in spec.connections.items():
+            if isinstance(c, LinkSpec):
+                points.update({f"{name}:{at}": poses.moved(p, s.hardpoints[at])
+                               for p, at in zip(c.parts, c.at)})
+            else:
+                points[name] = np.mean([poses.moved(p, s.hardpoints[c.at]) for p in c.parts],
+                                       axis=0)
+    axes = {}
+    for j in s.joints:
+        if j.kind in ("revolute", "cylindrical", "universal"):
+            axes[j.name] = poses.rotation.get(j.parts[1], np.eye(3)) @ j.frame[:, 2]
+    for b in s.bushings:
+        if b.ideal_joint in ("revolute", "cylindrical"):
+            axes[b.name] = poses.rotation.get(b.parts[1], np.eye(3)) @ b.frame[:, 2]
+    w = s.wheel
+    points[WHEEL] = poses.moved(w.part, w.centre_mm)
+    axes[WHEEL] = poses.rotation[w.part] @ w.spin_axis
+    return points, axes
+
+
+def as_built_corner(suspension: Suspension) -> tuple[Suspension, AsBuilt, tuple | None]:
+    """The config's corner, its as-built suspension (steerable when the plan steers) and the
+    rack (see :func:`steerable`)."""
+    s = corner(suspension)
+    if s.motion is None:
+        raise ConfigError(f"{s.source}: no 'motion' section: it names the files to write")
+    check_motion(s, s.motion, "motion")
+    if side_couplings(suspension) and any(p.other_wheel_travel_mm for p in
+                                          s.motion.positions.values()):
+        raise ConfigError(f"{s.source}: key 'motion.positions': the virtual CMM measures one "
+                          "corner; this axle's sides are coupled, so other_wheel_travel_mm "
+                          "must be 0")
+    moving, rack = steerable(s, s.motion)
+    design = design_state(moving)
+    if s.measurements is not None and s.measurements.joints:
+        syn = s.measurements.synthetic
+        shifts = clearance_shifts(s, np.random.default_rng(syn.seed if syn else 0))
+        return s, as_built(moving, shifts, design), rack
+    built = AsBuilt(moving, {}, dict(design.bushing_preload), dict(design.spring_force_N), {})
+    return s, built, rack
+
+
+def synthesize_motion(suspension: Suspension, seed: int | None = None,
+                      folder: Path | None = None) -> list[Path]:
+    """Solve the as-built suspension at every position of the config's motion plan and write
+    its virtual CMM files (see module doc); returns the paths."""
+    s, built, rack = as_built_corner(suspension)
+    mo = s.motion
+    syn = mo.synthetic or MotionSyntheticSpec()
+    seed = syn.seed if seed is None else seed
+    rng = np.random.default_rng(seed)
+    folder = Path(folder) if folder is not None else Path(s.source).parent / mo.folder
+    sigma = syn.noise_mm / CHI3_95
+    poses = position_poses(built, rack, mo)
+    design = poses[mo.design_position]
+    points, axes = _truth(s, built, design)
+    folder.mkdir(parents=True, exist_ok=True)
+    stamp = f"elastokin synthesize, seed {seed}, config {Path(s.source).name}"
+    cmm_R, cmm_t = random_rotation(rng), rng.uniform(-2000, 2000, size=3)
+    marks = {b: place_marks(rng, pts, mo.eps_mm, b)
+             for b, pts in body_points(s, mo).items()}
+    files = _write(folder / mo.ground.file, dict(zip(mo.ground.marks, marks[s.ground] + rng.normal(
+        scale=sigma, size=(4, 3)))), f"ground '{s.ground}': its marks in the config frame; "
+        f"mm\n{stamp}")
+    names = list(mo.positions)
+    gross = (names[int(rng.integers(len(names)))], list(marks)[int(rng.integers(len(marks)))],
+             int(rng.integers(4)))
+    gross_error = random_in_ball(rng, 1.0)
+    gross_error *= rng.uniform(*syn.gross_error_mm) / np.linalg.norm(gross_error)
+    true_poses = {}
+    for name, p in mo.positions.items():
+        T = body_transforms(s, rack, mo, poses[name])
+        if WHEEL in marks:
+            T[WHEEL] = _wheel_transform(s, poses[name], p.wheel_turned_deg)
+        true_poses[name] = T
+        out = {}
+        for body, local in marks.items():
+            q = (local @ T[body][:3, :3].T + T[body][:3, 3]) @ cmm_R.T + cmm_t
+            q = q + rng.normal(scale=sigma, size=q.shape)
+            if (name, body) == gross[:2]:
+                q[gross[2]] += gross_error
+            labels = mark_labels(mark_patterns(mo)[body], 4, body)
+            out.update(zip(labels, q[rng.permutation(4)]))
+        files += _write(folder / p.file, out, f"position '{name}' ({_state(p)}): every body's "
+                        f"marks in the CMM frame, unordered; mm\n{stamp}")
+    if mo.truth is not None:
+        doc = {"seed": seed, "noise_mm": syn.noise_mm,
+               "noise_sigma_per_coordinate_mm": round(sigma, 9),
+               "clearance_shift_mm": {k: rounded(v) for k, v in built.shifts_mm.items()},
+               "gross_error": {"position": gross[0], "body": gross[1], "mark": gross[2],
+                               "error_mm": rounded(gross_error)},
+               "cmm_frame": {"rotation": rounded(cmm_R, 9), "translation_mm": rounded(cmm_t)},
+               "joints": {k: rounded(v) for k, v in points.items()},
+               "axes": {k: rounded(v / np.linalg.norm(v), 9) for k, v in axes.items()},
+               "marks": {b: rounded(m) for b, m in marks.items()},
+               "body_poses": {n: {b: {"rotation": rounded(T[:3, :3], 9),
+                                      "translation_mm": rounded(T[:3, 3])}
+                                  for b, T in Ts.items()} for n, Ts in true_poses.items()}}
+        path = folder / mo.truth
+        path.write_text(
+            "# Synthetic truth of the motion plan, written by `elastokin synthesize` (see "
+            "docs/measurements.md).\n# Units mm; config frame. joints, axes: at the design "
+            "position, loaded. marks: every body's\n# marks at the design position. "
+            "body_poses: x = R x_design + t at each position. cmm_frame:\n# x_cmm = R x + t.\n"
+            + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100))
+        files.append(path)
+    return files
+
+
+def _state(p) -> str:
+    return ", ".join(f"{k} {v:g}" for k, v in p.model_dump(exclude={"file"}).items()) or "design"
+
+
+def _write(path: Path, points: dict, comment: str) -> list[Path]:
+    files = []
+    for ext in (".igs", ".csv"):
+        target = path.with_suffix(ext)
+        write_points(target, points, {}, comment)
+        files.append(target)
+    return files
