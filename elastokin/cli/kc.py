@@ -85,7 +85,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
             labels = [m for m in model_labels(suspension) if m in chosen]
             fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
             stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                      + (2 + FIT_RUNS_EXPECTED) * fit)
+                      + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * fit)
             with output as tmp, progress_bar(stages, quiet) as progress:
                 cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
                 # every model run of the fit advances the bar too
@@ -180,11 +180,15 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
 @click.option("--kc-test-out", "kc_test_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's kc_test.folder",
               help="Folder for the synthetic K&C test files.")
-@click.option("--only", type=click.Choice(["cmm", "kc-test"]), default=None,
-              help="Write only the CMM files or only the K&C test files (default: both, the "
-                   "K&C test files when the config has kc_test.synthetic).")
+@click.option("--motion-out", "motion_dir", type=click.Path(path_type=Path),
+              metavar="DIRECTORY", default=None, show_default="the config's motion.folder",
+              help="Folder for the CMM files of the motion plan (joints from motion).")
+@click.option("--only", type=click.Choice(["cmm", "kc-test", "motion"]), default=None,
+              help="Write only the CMM files, only the K&C test files or only the motion "
+                   "plan's CMM files (default: each the config has a section for; the K&C "
+                   "test files with kc_test.synthetic).")
 def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
-               kc_test_dir: Path | None, only: str | None) -> None:
+               kc_test_dir: Path | None, motion_dir: Path | None, only: str | None) -> None:
     """Synthetic case-study data: virtual CMM files and K&C rig test files.
 
     Makes an as-built suspension (bolted joints shifted within their clearance), solves its
@@ -192,33 +196,46 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     part measured alone and the assembled marks (IGES and CSV; noisy, scrambled, one wrong
     mark), plus truth.yaml. With a 'kc_test.synthetic' section it also runs the synthetic
     real suspension (as-built + progressive bushings + ball-joint friction) on the rig and
-    writes one K&C test CSV per load case. The same config and seed give the same bytes.
+    writes one K&C test CSV per load case. With a 'motion' section, the marks of every part
+    of the same as-built suspension at each rig position of the motion plan (seed:
+    motion.synthetic.seed). The same config and seed give the same bytes.
     """
     from elastokin.config.loading import load_suspension
     from elastokin.synthetic.real_suspension import kc_test_runs, write_kc_test_files
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
+    from elastokin.synthetic.virtual_motion import synthesize_motion
 
     with WarningLog() as log:
         try:
-            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir)):
+            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir),
+                                   ("--motion-out", motion_dir)):
                 if folder is not None:  # before any computation
                     _check_data_folder(folder, option)
             s = load_suspension(config_path)
-            cmm = only in (None, "cmm")
+            cmm = only == "cmm" or (only is None and (s.measurements is not None
+                                                      or s.motion is None))
             kc_test = only == "kc-test" or (only is None and s.kc_test is not None
                                             and s.kc_test.synthetic is not None)
+            motion = only == "motion" or (only is None and s.motion is not None)
             here = Path(s.source).parent
             if cmm and out_dir is None and s.measurements is not None:
                 _check_data_folder(here / s.measurements.folder, "measurements.folder")
             if kc_test and kc_test_dir is None and s.kc_test is not None:
                 _check_data_folder(here / s.kc_test.folder, "kc_test.folder")
+            if motion and motion_dir is None and s.motion is not None:
+                _check_data_folder(here / s.motion.folder, "motion.folder")
             written = []
-            with progress_bar(cmm + (kc_test_runs(s) if kc_test else 0)) as progress:
+            with progress_bar(cmm + motion + (kc_test_runs(s) if kc_test else 0)) as progress:
                 if cmm:
                     progress("virtual CMM: as-built suspension and its measurements")
                     files = run_synthesis(s, seed, out_dir)
                     written.append(f"wrote {len(files)} files in {files[0].parent}/: "
                                    + ", ".join(f.name for f in files))
+                if motion:
+                    progress("virtual CMM: the as-built suspension at every rig position")
+                    files = synthesize_motion(s, seed, motion_dir)
+                    written.append(f"wrote {len(files)} files in {files[0].parent}/ (the "
+                                   "motion plan)")
                 if kc_test:
                     files = write_kc_test_files(s, kc_test_dir, seed=seed, progress=progress)
                     written.append(f"wrote {len(files)} K&C test files in "

@@ -19,7 +19,7 @@ import numpy as np
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
-from elastokin.report.text import identification_table
+from elastokin.report.text import identification_table, motion_table
 from elastokin.rig.axle_channels import design_track_mm
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
@@ -117,6 +117,8 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         "reused_from_cache": run.reused,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
+        **({"motion_identification": motion_summary(run.motion)}
+           if run.motion is not None else {}),
         **({"axle": axle_data(s)} if s.axle is not None else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
@@ -158,6 +160,11 @@ def input_files(run: KCRun) -> list[dict]:
     if run.identification is not None:
         for part, f in run.identification.sources.items():
             role = "CMM, assembled marks" if part == "assembly" else f"CMM, part {part}"
+            out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
+    if run.motion is not None:
+        for position, f in run.motion.sources.items():
+            role = ("CMM, ground marks" if position == "ground"
+                    else f"CMM, motion position {position}")
             out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
     return out
 
@@ -203,6 +210,52 @@ def write_identification(folder: Path, ident, prov: dict) -> dict:
     doc = identification_dict(ident, prov)
     (folder / "identification.json").write_text(json.dumps(doc, indent=2) + "\n")
     (folder / "identification.txt").write_text(identification_table(ident))
+    return doc
+
+
+def motion_dict(motion, prov: dict, ident: dict | None = None) -> dict:
+    """``motion_identification.json``: the joints located from the motion (with provenance)
+    and, when the run also identified the geometry from the parts measured alone
+    (``ident``, ``identification.json``'s content), that method's error against the truth
+    beside each joint's. Vehicle (config) frame at the design position, mm, deg."""
+    body = motion.to_json()
+    for name, j in body["joints"].items():
+        other = (ident or {}).get("joints", {}).get(name)
+        j["disassembly_error_vs_truth_mm"] = None if other is None else \
+            other.get("error_vs_truth_mm")
+    return {**prov, **body, "conventions": {
+        "located_mm": "joint centre from the parts' motion at the design position (an axis "
+                      "joint: the axis point nearest the config's hardpoint; null: only the "
+                      "axis is located, e.g. a bushing)",
+        "uncertainty_mm": "1-sigma 3-D RMS from the CMM noise (noise_sigma_mm, first-order "
+                          "propagation); worst_std_mm along the worst direction",
+        "residual_rms_mm": "RMS distance between the two bodies' points over the positions",
+        "error_vs_truth_mm": "against the synthetic truth; an axis joint's across the true "
+                             "axis",
+        "methods": "SCoRE: Ehrig et al. 2006, J. Biomech. 39:2798; SARA: Ehrig et al. 2007, "
+                   "J. Biomech. 40:2150"}}
+
+
+def motion_summary(motion) -> dict:
+    """The joints from motion in ``summary.json`` (details in motion_identification.json)."""
+    return {"file": "motion_identification.json",
+            "noise_sigma_mm": motion.noise_sigma_mm,
+            "joints": {n: {"located_mm": None if not j.plan.locates_point
+                           else [float(x) for x in j.point_mm],
+                           "uncertainty_mm": j.uncertainty_mm if j.plan.locates_point
+                           else None,
+                           "axis_uncertainty_deg": j.axis_uncertainty_deg,
+                           "error_vs_truth_mm": j.error_vs_truth_mm,
+                           "axis_error_deg": j.axis_error_deg}
+                       for n, j in motion.joints.items()}}
+
+
+def write_motion_identification(folder: Path, motion, prov: dict, ident: dict | None = None
+                                ) -> dict:
+    """motion_identification.json and .txt; returns the JSON's content."""
+    doc = motion_dict(motion, prov, ident)
+    (folder / "motion_identification.json").write_text(json.dumps(doc, indent=2) + "\n")
+    (folder / "motion_identification.txt").write_text(motion_table(doc))
     return doc
 
 
@@ -254,6 +307,10 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
         files += ["identification.json", "identification.txt"]
+    motion = None
+    if run.motion is not None:
+        motion = write_motion_identification(folder, run.motion, prov, ident)
+        files += ["motion_identification.json", "motion_identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
@@ -261,7 +318,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     files += [p.name for p in charts] + ["report.html"]
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts, ident)
+    write_report(folder / "report.html", summary, charts, ident, motion)
     return summary
 
 

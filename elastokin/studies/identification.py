@@ -6,6 +6,7 @@ mm, N, N*mm, deg; config frame."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import suspension_from_dict
@@ -17,8 +18,10 @@ from elastokin.identification.geometric import (
     identify,
     verification_deviations,
 )
+from elastokin.identification.motion.identify import MotionIdentification, identify_motion
 from elastokin.mbs.design import build_model, design_state
 from elastokin.rig.load_cases import static_equilibrium
+from elastokin.studies.cache import content_key
 
 
 def identified_suspension(ident: Identification) -> Suspension:
@@ -53,3 +56,36 @@ def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = 
         for cfg in (ident.initial_config, ident.identified_config):
             cfg["axle"] = plain_data(axle)
     return ident
+
+
+def motion_files(suspension: Suspension) -> list[Path]:
+    """The CMM files of the config's motion plan (for the cache key)."""
+    mo = suspension.motion
+    if mo is None:
+        return []
+    folder = Path(suspension.source).parent / mo.folder
+    names = [mo.ground.file] + [p.file for p in mo.positions.values()]
+    return [folder / n for n in names + ([mo.truth] if mo.truth else [])]
+
+
+def motion_geometry(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
+                    cache=None) -> MotionIdentification | None:
+    """The step ``motion_geometry`` of the K&C job: the joints located from the parts' motion
+    when the config has a motion plan (``motion``; from ``cache``, a
+    :class:`~elastokin.studies.cache.ResultCache`, when the config and the files are those it
+    was computed from). On an axle its config keeps the ``axle`` section: the other side is
+    the located corner mirrored."""
+    if suspension.motion is None:
+        return None
+    key = content_key("motion_geometry", suspension.sha256, *motion_files(suspension))
+    found = cache.get("motion_geometry", key) if cache is not None else None
+    if found is None:
+        progress("locating the joints from the parts' motion")
+        found = identify_motion(suspension, progress)
+        if suspension.axle is not None:
+            found.config["axle"] = plain_data(suspension.raw["axle"])
+    else:
+        progress("joints from motion reused (same config and CMM files)")
+    if cache is not None:
+        cache.put("motion_geometry", key, found)
+    return found

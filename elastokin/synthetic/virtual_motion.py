@@ -15,8 +15,8 @@ its spin axis.
 Written (``motion.folder``), IGES and CSV: the ground's marks in the config frame, one file
 per position with every body's marks in the CMM's frame (one frame for all positions: the CMM
 stays put), each body's marks in scrambled order, one mark of one body at one position 5-15 mm
-wrong; ``truth.yaml``: the true joints and axes at the design position, every body's true
-marks (design position, config frame) and pose at every position. CMM noise as in
+wrong; ``truth.yaml``: the true joints and axes at the design position and every body's true
+marks (design position, config frame). CMM noise as in
 :mod:`.virtual_cmm`. Everything is drawn from ``numpy.random.default_rng(motion.synthetic.
 seed)`` in a fixed order: a config and a seed give the same bytes. Units mm, deg.
 """
@@ -39,7 +39,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner, side_couplings
 from elastokin.errors import ConfigError
 from elastokin.formats.cmm import write_points
-from elastokin.formats.cmm_motion import WHEEL, mark_patterns
+from elastokin.formats.cmm_motion import WHEEL, MotionMeasurement, mark_patterns
 from elastokin.mbs.axle_elements import STEERING_LOCK
 from elastokin.mbs.design import build_model, design_state
 from elastokin.physics.pose import frame_from_z
@@ -231,71 +231,117 @@ def as_built_corner(suspension: Suspension) -> tuple[Suspension, AsBuilt, tuple 
     return s, built, rack
 
 
-def synthesize_motion(suspension: Suspension, seed: int | None = None,
-                      folder: Path | None = None) -> list[Path]:
-    """Solve the as-built suspension at every position of the config's motion plan and write
-    its virtual CMM files (see module doc); returns the paths."""
+@dataclasses.dataclass
+class TrueMotion:
+    """The truth of a motion plan: every body's marks at the design position (config frame),
+    its pose at every position (4x4, from the design position), the true joint locations and
+    axes at the design position and the clearance shifts (mm, config frame)."""
+
+    marks: dict[str, np.ndarray]
+    poses: dict[str, dict[str, np.ndarray]]
+    joints: dict[str, np.ndarray]
+    axes: dict[str, np.ndarray]
+    shifts_mm: dict[str, np.ndarray]
+
+
+def true_motion(suspension: Suspension, rng: np.random.Generator) -> TrueMotion:
+    """Solve the as-built corner at every position of the config's motion plan and place
+    every body's marks (drawn from ``rng``)."""
     s, built, rack = as_built_corner(suspension)
     mo = s.motion
-    syn = mo.synthetic or MotionSyntheticSpec()
-    seed = syn.seed if seed is None else seed
-    rng = np.random.default_rng(seed)
-    folder = Path(folder) if folder is not None else Path(s.source).parent / mo.folder
-    sigma = syn.noise_mm / CHI3_95
     poses = position_poses(built, rack, mo)
-    design = poses[mo.design_position]
-    points, axes = _truth(s, built, design)
-    folder.mkdir(parents=True, exist_ok=True)
-    stamp = f"elastokin synthesize, seed {seed}, config {Path(s.source).name}"
-    cmm_R, cmm_t = random_rotation(rng), rng.uniform(-2000, 2000, size=3)
-    marks = {b: place_marks(rng, pts, mo.eps_mm, b)
-             for b, pts in body_points(s, mo).items()}
-    files = _write(folder / mo.ground.file, dict(zip(mo.ground.marks, marks[s.ground] + rng.normal(
-        scale=sigma, size=(4, 3)))), f"ground '{s.ground}': its marks in the config frame; "
-        f"mm\n{stamp}")
-    names = list(mo.positions)
-    gross = (names[int(rng.integers(len(names)))], list(marks)[int(rng.integers(len(marks)))],
-             int(rng.integers(4)))
-    gross_error = random_in_ball(rng, 1.0)
-    gross_error *= rng.uniform(*syn.gross_error_mm) / np.linalg.norm(gross_error)
+    points, axes = _truth(s, built, poses[mo.design_position])
+    marks = {b: place_marks(rng, pts, mo.eps_mm, b) for b, pts in body_points(s, mo).items()}
     true_poses = {}
     for name, p in mo.positions.items():
         T = body_transforms(s, rack, mo, poses[name])
         if WHEEL in marks:
             T[WHEEL] = _wheel_transform(s, poses[name], p.wheel_turned_deg)
         true_poses[name] = T
-        out = {}
-        for body, local in marks.items():
+    return TrueMotion(marks, true_poses, points, axes, dict(built.shifts_mm))
+
+
+def measure(true: TrueMotion, motion: MotionSpec, ground: str, sigma_mm: float,
+            rng: np.random.Generator, gross_error_mm: tuple[float, float] | None = None
+            ) -> tuple[MotionMeasurement, dict]:
+    """The virtual CMM at ``motion``'s positions (a subset of ``true``'s): the CMM frame,
+    the ground's marks in the config frame and every body's marks at every position in the
+    CMM frame, each with isotropic noise ``sigma_mm`` per coordinate, in scrambled order;
+    with ``gross_error_mm`` one mark of one body at one position that far off. Returns the
+    measurement (file names: the positions') and the CMM frame and the gross error."""
+    cmm_R, cmm_t = random_rotation(rng), rng.uniform(-2000, 2000, size=3)
+    ground_marks = true.marks[ground] + rng.normal(scale=sigma_mm, size=(4, 3))
+    names = list(motion.positions)
+    gross: dict = {}
+    if gross_error_mm is not None:
+        error = random_in_ball(rng, 1.0)
+        gross = {"position": names[int(rng.integers(len(names)))],
+                 "body": list(true.marks)[int(rng.integers(len(true.marks)))],
+                 "mark": int(rng.integers(4)),
+                 "error_mm": rng.uniform(*gross_error_mm) * error / np.linalg.norm(error)}
+    measured = []
+    for name in names:
+        T, out = true.poses[name], {}
+        for body, local in true.marks.items():
             q = (local @ T[body][:3, :3].T + T[body][:3, 3]) @ cmm_R.T + cmm_t
-            q = q + rng.normal(scale=sigma, size=q.shape)
-            if (name, body) == gross[:2]:
-                q[gross[2]] += gross_error
-            labels = mark_labels(mark_patterns(mo)[body], 4, body)
-            out.update(zip(labels, q[rng.permutation(4)]))
+            q = q + rng.normal(scale=sigma_mm, size=q.shape)
+            if gross and (name, body) == (gross["position"], gross["body"]):
+                q[gross["mark"]] += gross["error_mm"]
+            out[body] = q[rng.permutation(4)]
+        measured.append(out)
+    return (MotionMeasurement(names, names, measured, ground_marks, "ground"),
+            {"cmm_frame": (cmm_R, cmm_t), "gross_error": gross})
+
+
+def synthesize_motion(suspension: Suspension, seed: int | None = None,
+                      folder: Path | None = None) -> list[Path]:
+    """Solve the as-built suspension at every position of the config's motion plan and write
+    its virtual CMM files (see module doc); returns the paths."""
+    s = corner(suspension)
+    mo = s.motion
+    if mo is None:
+        raise ConfigError(f"{s.source}: no 'motion' section: it names the files to write")
+    syn = mo.synthetic or MotionSyntheticSpec()
+    seed = syn.seed if seed is None else seed
+    rng = np.random.default_rng(seed)
+    true = true_motion(suspension, rng)
+    sigma = syn.noise_mm / CHI3_95
+    data, extra = measure(true, mo, s.ground, sigma, rng, syn.gross_error_mm)
+    folder = Path(folder) if folder is not None else Path(s.source).parent / mo.folder
+    folder.mkdir(parents=True, exist_ok=True)
+    stamp = f"elastokin synthesize, seed {seed}, config {Path(s.source).name}"
+    files = _write(folder / mo.ground.file, dict(zip(mo.ground.marks, data.ground_marks)),
+                   f"ground '{s.ground}': its marks in the config frame; mm\n{stamp}")
+    patterns = mark_patterns(mo)
+    for (name, p), measured in zip(mo.positions.items(), data.marks):
+        out = {}
+        for body, q in measured.items():
+            out.update(zip(mark_labels(patterns[body], 4, body), q))
         files += _write(folder / p.file, out, f"position '{name}' ({_state(p)}): every body's "
                         f"marks in the CMM frame, unordered; mm\n{stamp}")
     if mo.truth is not None:
-        doc = {"seed": seed, "noise_mm": syn.noise_mm,
-               "noise_sigma_per_coordinate_mm": round(sigma, 9),
-               "clearance_shift_mm": {k: rounded(v) for k, v in built.shifts_mm.items()},
-               "gross_error": {"position": gross[0], "body": gross[1], "mark": gross[2],
-                               "error_mm": rounded(gross_error)},
-               "cmm_frame": {"rotation": rounded(cmm_R, 9), "translation_mm": rounded(cmm_t)},
-               "joints": {k: rounded(v) for k, v in points.items()},
-               "axes": {k: rounded(v / np.linalg.norm(v), 9) for k, v in axes.items()},
-               "marks": {b: rounded(m) for b, m in marks.items()},
-               "body_poses": {n: {b: {"rotation": rounded(T[:3, :3], 9),
-                                      "translation_mm": rounded(T[:3, 3])}
-                                  for b, T in Ts.items()} for n, Ts in true_poses.items()}}
-        path = folder / mo.truth
-        path.write_text(
-            "# Synthetic truth of the motion plan, written by `elastokin synthesize` (see "
-            "docs/measurements.md).\n# Units mm; config frame. joints, axes: at the design "
-            "position, loaded. marks: every body's\n# marks at the design position. "
-            "body_poses: x = R x_design + t at each position. cmm_frame:\n# x_cmm = R x + t.\n"
-            + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100))
-        files.append(path)
+        files.append(_write_truth(folder / mo.truth, true, seed, syn.noise_mm, sigma, extra))
     return files
+
+
+def _write_truth(path: Path, true: TrueMotion, seed: int, noise_mm: float, sigma: float,
+                 extra: dict) -> Path:
+    cmm_R, cmm_t = extra["cmm_frame"]
+    gross = {k: rounded(v) if k == "error_mm" else v for k, v in extra["gross_error"].items()}
+    doc = {"seed": seed, "noise_mm": noise_mm, "noise_sigma_per_coordinate_mm": round(sigma, 9),
+           "clearance_shift_mm": {k: rounded(v) for k, v in true.shifts_mm.items()},
+           "gross_error": gross,
+           "cmm_frame": {"rotation": rounded(cmm_R, 9), "translation_mm": rounded(cmm_t)},
+           "joints": {k: rounded(v) for k, v in true.joints.items()},
+           "axes": {k: rounded(v / np.linalg.norm(v), 9) for k, v in true.axes.items()},
+           "marks": {b: rounded(m) for b, m in true.marks.items()}}
+    path.write_text(
+        "# Synthetic truth of the motion plan, written by `elastokin synthesize` (see "
+        "docs/measurements.md).\n# Units mm; config frame. joints, axes: at the design "
+        "position, loaded. marks: every body's\n# marks at the design position. cmm_frame: "
+        "x_cmm = R x + t.\n"
+        + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100))
+    return path
 
 
 def _state(p) -> str:

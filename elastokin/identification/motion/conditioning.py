@@ -11,8 +11,8 @@ import numpy as np
 
 from elastokin.config.schema_motion import MotionSpec
 from elastokin.errors import MeasurementError
-from elastokin.identification.motion.functional import relative_rotations, weak_direction
 from elastokin.formats.cmm_motion import WHEEL
+from elastokin.identification.motion.functional import relative_rotations, weak_direction
 from elastokin.identification.motion.joints import SCORE, JointPlan, MotionJoint
 
 #: beyond this condition number the problem is singular: the motion does not locate at all
@@ -27,7 +27,7 @@ def located_condition(plan: JointPlan, poses, design: int) -> float:
     """The condition number of the joint's problem: SCoRE's matrix (largest over smallest
     singular value); for an axis the matrix without its null direction (a hinge's axis):
     largest over fifth singular value."""
-    (Ra, ta), (Rb, tb) = poses[plan.bodies[0]], poses[plan.bodies[1]]
+    Ra, Rb = poses[plan.bodies[0]][0], poses[plan.bodies[1]][0]
     A = np.concatenate([Ra, -Rb], axis=2).reshape(-1, 6)
     s = np.linalg.svd(A, compute_uv=False)
     weakest = s[4] if plan.has_axis else s[5]

@@ -19,10 +19,16 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.config.measurements import check_motion
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
 from elastokin.errors import ConfigError
-from elastokin.formats.cmm_motion import WHEEL, read_motion, read_motion_truth
+from elastokin.formats.cmm_motion import (
+    WHEEL,
+    MotionMeasurement,
+    read_motion,
+    read_motion_truth,
+)
 from elastokin.identification.motion.conditioning import check_located, located_condition
 from elastokin.identification.motion.functional import rack_score
 from elastokin.identification.motion.joints import (
@@ -59,6 +65,38 @@ class MotionIdentification:
     sources: dict[str, str] = field(default_factory=dict)  # position (and ground) -> file
     dropped_marks: list[dict] = field(default_factory=list)
 
+    def to_json(self) -> dict:
+        """``motion_identification.json``'s body (plain data; mm, deg, vehicle frame at the
+        design position)."""
+        def vec(v):
+            return None if v is None else [float(x) for x in np.asarray(v).ravel()]
+
+        return {
+            "design_position": self.design_position,
+            "positions": self.positions,
+            "noise_sigma_mm": self.noise_sigma_mm,
+            "noise_dof": self.noise_dof,
+            "joints": {n: {"kind": j.plan.kind, "method": j.plan.method,
+                           "bodies": list(j.plan.bodies), "hardpoint": j.plan.hardpoint,
+                           "located_mm": vec(j.point_mm) if j.plan.locates_point else None,
+                           "config_mm": vec(j.plan.config_mm),
+                           "uncertainty_mm": j.uncertainty_mm if j.plan.locates_point
+                           else None,
+                           "worst_std_mm": j.worst_std_mm if j.plan.locates_point else None,
+                           "covariance_mm2": vec(j.covariance_mm2),
+                           "axis": vec(j.axis), "axis_uncertainty_deg": j.axis_uncertainty_deg,
+                           "condition_number": j.condition,
+                           "residual_rms_mm": j.residual_rms_mm,
+                           "from_config_along": [vec(d) for d, _ in j.from_config],
+                           "truth_mm": vec(j.truth_mm), "truth_axis": vec(j.truth_axis),
+                           "error_vs_truth_mm": j.error_vs_truth_mm,
+                           "axis_error_deg": j.axis_error_deg}
+                       for n, j in self.joints.items()},
+            "dropped_marks": self.dropped_marks,
+            "warnings": self.warnings,
+            "files": self.sources,
+        }
+
 
 def identify_motion(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
                     ) -> MotionIdentification:
@@ -72,13 +110,30 @@ def identify_motion(suspension: Suspension, progress: Callable[[str], None] = la
     folder = Path(s.source).parent / mo.folder
     progress("reading the motion measurements")
     data = read_motion(mo, folder, s.ground)
+    truth = read_motion_truth(folder / mo.truth) if mo.truth else ({}, {})
+    ident = locate_joints(s, mo, data, truth, progress)
+    config, kept = motion_config(s, ident.joints)
+    if kept:
+        ident.warnings.append(f"{s.source}: hardpoint(s) {', '.join(kept)} located by no "
+                              "joint of the motion: kept at their config values")
+    ident.config = config
+    return ident
+
+
+def locate_joints(s: Suspension, mo: MotionSpec, data: MotionMeasurement,
+                  truth: tuple[dict, dict] = ({}, {}),
+                  progress: Callable[[str], None] = lambda m: None,
+                  covariance: bool = True) -> MotionIdentification:
+    """The joints of the corner ``s`` located from the marks ``data`` measured at the
+    positions of ``mo`` (no config built: :func:`motion_config`); ``truth``: true points and
+    axes by joint (synthetic data). Without ``covariance`` (Monte Carlo), no uncertainty and
+    no check of it."""
     design = data.positions.index(mo.design_position)
     progress("part poses at every position")
     marks, warnings = order_marks(data, s.ground, design, mo.eps_mm)
     sigma, dof = noise_sigma(marks)
     todo, more = plans(s, mo, list(marks.raw))
     poses = vehicle_poses(marks)
-    truth_points, truth_axes = (read_motion_truth(folder / mo.truth) if mo.truth else ({}, {}))
     unknown = sorted(set(mo.partly_located) - {p.name for p in todo})
     if unknown:
         raise ConfigError(f"{s.source}: key 'motion.partly_located': {', '.join(unknown)} "
@@ -87,35 +142,38 @@ def identify_motion(suspension: Suspension, progress: Callable[[str], None] = la
     joints = {}
     for plan in todo:
         progress(f"locating {plan.name} from the motion")
-        j = joints[plan.name] = locate(plan, marks, poses, sigma, mo, data.files)
-        j.truth_mm, j.truth_axis = truth_points.get(plan.name), truth_axes.get(plan.name)
+        j = joints[plan.name] = locate(plan, marks, poses, sigma if covariance else None, mo,
+                                       data.files)
+        j.truth_mm, j.truth_axis = truth[0].get(plan.name), truth[1].get(plan.name)
         more += [f"{s.source}: joint '{plan.name}' keeps its config location along "
                  f"({', '.join(f'{x:.2f}' for x in d)}) (motion.partly_located): the motion "
                  f"locates it there to {sd:.2f} mm only" for d, sd in j.from_config]
-    config, kept = motion_config(s, joints)
-    if kept:
-        more.append(f"{s.source}: hardpoint(s) {', '.join(kept)} located by no joint of the "
-                    "motion: kept at their config values")
     sources = {"ground": data.ground_file, **dict(zip(data.positions, data.files))}
     dropped = [{"body": b, "position": data.positions[k], "mark": i}
                for b, k, i in marks.dropped]
-    return MotionIdentification(s, joints, config, sigma, dof, mo.design_position,
+    return MotionIdentification(s, joints, {}, sigma, dof, mo.design_position,
                                 {n: p.model_dump(exclude={"file"})
                                  for n, p in mo.positions.items()},
                                 list(dict.fromkeys(warnings + more)), sources, dropped)
 
 
-def locate(plan: JointPlan, marks: MotionMarks, poses: Poses, sigma_mm: float, motion,
+def locate(plan: JointPlan, marks: MotionMarks, poses: Poses, sigma_mm: float | None, motion,
            files: list[str]) -> MotionJoint:
-    """One joint from the motion, with its covariance from the CMM noise (``sigma_mm``);
-    raises (:func:`.conditioning.check_located`) when the motion does not locate it."""
+    """One joint from the motion, with its covariance from the CMM noise (``sigma_mm``;
+    None: none, zeros); raises (:func:`.conditioning.check_located`) when the motion does not
+    locate it."""
     design = marks.design
     condition = located_condition(plan, poses, design)
     check_located(plan, poses, design, motion, files, condition=condition)
     value = plan.estimate(poses, design)
-    cov = propagate(marks, list(plan.bodies), lambda p: plan.estimate(p, design), sigma_mm)
+    if sigma_mm is None:
+        cov = np.zeros((len(value), len(value)))
+    else:
+        cov = propagate(marks, list(plan.bodies), lambda p: plan.estimate(p, design),
+                        sigma_mm)
     weak = None
-    if plan.name in motion.partly_located:  # the config along what the motion cannot fix
+    if plan.name in motion.partly_located and sigma_mm is not None:  # the config along
+        # what the motion cannot fix (from the covariance: none without it)
         w, v = np.linalg.eigh(cov[:3, :3])
         weak, weak_std = v[:, w > motion.max_uncertainty_mm**2], np.sqrt(w[w > motion.
                                                                         max_uncertainty_mm**2])
@@ -159,8 +217,8 @@ def _clean(v) -> list[float]:
 def motion_config(s: Suspension, joints: dict[str, MotionJoint]) -> tuple[dict, list[str]]:
     """The config of the model ``identified_motion``: the suspension's config with every
     located joint's hardpoint (the first joint at a hardpoint wins), axis and the wheel's spin
-    axis and centre where the motion puts them; a hardpoint that only gives a located axis's
-    direction (``axis: {from, to}``) moved onto the located axis; the ``design`` kept (the
+    axis and centre where the motion puts them; an axis given by two hardpoints (``axis:
+    {from, to}``) by moving both onto the located axis; the ``design`` kept (the
     hardpoints are the static equilibrium under the wheel load). Returns it and the
     hardpoints kept at their config values."""
     raw = s.raw
@@ -181,10 +239,13 @@ def motion_config(s: Suspension, joints: dict[str, MotionJoint]) -> tuple[dict, 
         spec = d["connections"][j.plan.name]
         key = "torsion_axis" if spec["type"] == "universal" else "axis"
         axis = j.axis * np.sign(j.axis @ j.plan.config_axis)
-        if isinstance(spec.get(key), dict) and j.plan.locates_point:
-            for end in spec[key].values():
-                if isinstance(end, str):
-                    lines.setdefault(end, (j.point_mm, axis))
+        ends = spec.get(key) if isinstance(spec.get(key), dict) else {}
+        if j.plan.locates_point and all(isinstance(e, str) for e in ends.values()) and ends:
+            # an axis between two hardpoints: both moved onto the located axis, so that the
+            # model's axis is it and a joint at either end stays on it exactly
+            for end in ends.values():
+                lines.setdefault(end, (j.point_mm, axis))
+            continue
         if spec["type"] == "bushing":
             b = next(b for b in s.bushings if b.name == j.plan.name)
             radial = b.frame[:, 0] - (b.frame[:, 0] @ axis) * axis

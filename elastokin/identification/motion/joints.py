@@ -32,9 +32,9 @@ from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.formats.cmm_motion import WHEEL
 from elastokin.identification.motion.functional import (
+    rack_score,
     sara,
     score,
-    rack_score,
     world_axis,
     world_point,
 )

@@ -14,7 +14,7 @@ coordinate (the first-order covariance of that result under isotropic noise).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -108,18 +108,26 @@ def order_marks(data: MotionMeasurement, ground: str, design: int, eps_mm: float
 def vehicle_poses(marks: MotionMarks, bodies: list[str] | None = None) -> Poses:
     """Every body's pose (its frame -> vehicle frame) at every position (the ground: the
     identity); ``bodies``: only these."""
-    g = marks.ground
     weights = {b: np.isfinite(m[..., 0]).astype(float) for b, m in marks.raw.items()}
-    Rg, tg, _ = fit_poses(marks.ground_template, marks.raw[g], weights[g])  # vehicle -> CMM
-    P = marks.positions
+    return _poses(marks.ground, marks.ground_template, marks.raw, weights, marks.reference,
+                  bodies if bodies is not None else list(marks.raw))
+
+
+def _poses(ground: str, template: np.ndarray, raw: dict[str, np.ndarray],
+           weights: dict[str, np.ndarray], reference: dict[str, int], bodies: list[str]
+           ) -> Poses:
+    """:func:`vehicle_poses` for marks with leading batch dimensions (``template`` (..., 4,
+    3), ``raw[body]`` (..., P, 4, 3); ``weights[body]`` (P, 4)): poses (..., P, 3, 3) and
+    (..., P, 3)."""
+    Rg, tg, _ = fit_poses(template[..., None, :, :], raw[ground], weights[ground])
+    shape = raw[ground].shape[:-2]
     out: Poses = {}
-    for body in bodies if bodies is not None else list(marks.raw):
-        if body == g:
-            out[body] = (np.tile(np.eye(3), (P, 1, 1)), np.zeros((P, 3)))
+    for body in bodies:
+        if body == ground:
+            out[body] = (np.broadcast_to(np.eye(3), (*shape, 3, 3)), np.zeros((*shape, 3)))
             continue
-        local = np.einsum("kji,kmj->kmi", Rg, marks.raw[body] - tg[:, None, :])
-        template = local[marks.reference[body]]
-        R, t, _ = fit_poses(template, local, weights[body])
+        local = np.einsum("...kji,...kmj->...kmi", Rg, raw[body] - tg[..., None, :])
+        R, t, _ = fit_poses(local[..., reference[body], None, :, :], local, weights[body])
         out[body] = (R, t)
     return out
 
@@ -153,21 +161,73 @@ def propagate(marks: MotionMarks, bodies: list[str], result: Callable[[Poses], n
     """The covariance of ``result(poses)`` (a vector) under isotropic noise ``sigma_mm`` on
     every measured coordinate it depends on (the ground's marks in both frames and the
     ``bodies``' marks at every position): sigma^2 J J^T with J by forward differences,
-    exact to first order. The orderings and dropped marks stay as found."""
-    involved = [marks.ground, *[b for b in bodies if b != marks.ground]]
-    base = result(vehicle_poses(marks, involved))
-    columns = []
-    arrays = [("template", marks.ground_template)] + [(b, marks.raw[b]) for b in involved]
-    for name, array in arrays:
-        flat = array.reshape(-1)
-        for i in np.flatnonzero(np.isfinite(flat)):
-            moved = flat.copy()
-            moved[i] += step_mm
-            moved = moved.reshape(array.shape)
-            if name == "template":
-                changed = replace(marks, ground_template=moved)
-            else:
-                changed = replace(marks, raw={**marks.raw, name: moved})
-            columns.append((result(vehicle_poses(changed, involved)) - base) / step_mm)
+    exact to first order. The orderings and dropped marks stay as found. A coordinate at a
+    position that is no body's reference changes only the poses there: those are fitted
+    again, all at once; the others (references, the ground's template) change every pose."""
+    g = marks.ground
+    involved = [g, *[b for b in bodies if b != g]]
+    weights = {b: np.isfinite(marks.raw[b][..., 0]).astype(float) for b in involved}
+    refs = {marks.reference[b] for b in involved if b != g}
+    base_poses = _poses(g, marks.ground_template, marks.raw, weights, marks.reference,
+                        involved)
+    base = result(base_poses)
+    local, full = [], []  # (array name, flat index)
+    arrays = {"": marks.ground_template, **{b: marks.raw[b] for b in involved}}
+    for name, a in arrays.items():
+        for i in np.flatnonzero(np.isfinite(a.reshape(-1))):
+            k = i // 12
+            at_reference = k in refs if name == g else k == marks.reference.get(name)
+            (full if not name or at_reference else local).append((name, int(i)))
+    columns = [_full_column(marks, involved, weights, result, base, name, i, step_mm)
+               for name, i in full]
+    columns += _local_columns(marks, involved, weights, base_poses, result, base, local,
+                              step_mm)
     J = np.array(columns).T
     return sigma_mm**2 * J @ J.T
+
+
+def _perturbed(a: np.ndarray, i: int, step_mm: float) -> np.ndarray:
+    out = a.copy()
+    out.reshape(-1)[i] += step_mm
+    return out
+
+
+def _full_column(marks: MotionMarks, involved: list[str], weights, result, base, name: str,
+                 i: int, step_mm: float) -> np.ndarray:
+    """A coordinate that changes every pose: all of them fitted again."""
+    template = marks.ground_template if name else _perturbed(marks.ground_template, i,
+                                                              step_mm)
+    raw = {b: _perturbed(marks.raw[b], i, step_mm) if b == name else marks.raw[b]
+           for b in involved}
+    poses = _poses(marks.ground, template, raw, weights, marks.reference, involved)
+    return (result(poses) - base) / step_mm
+
+
+def _local_columns(marks: MotionMarks, involved: list[str], weights, base_poses: Poses, result,
+                   base, items: list[tuple[str, int]], step_mm: float) -> list[np.ndarray]:
+    """Coordinates that change the poses at their own position only: every body's pose
+    there fitted again, for all of them at once."""
+    if not items:
+        return []
+    g = marks.ground
+    k = np.array([i // 12 for _, i in items])
+    at = {b: marks.raw[b][k] for b in involved}  # (n, 4, 3) each: at each item's position
+    for row, (name, i) in enumerate(items):
+        at[name][row].reshape(-1)[i % 12] += step_mm
+    Rg, tg, _ = fit_poses(marks.ground_template, at[g], weights[g][k])
+    Rg0, tg0, _ = fit_poses(marks.ground_template, marks.raw[g], weights[g])
+    new = {}
+    for b in involved[1:]:
+        ref = marks.reference[b]
+        template = (marks.raw[b][ref] - tg0[ref]) @ Rg0[ref]
+        local = np.einsum("nji,nmj->nmi", Rg, at[b] - tg[:, None, :])
+        new[b] = fit_poses(template, local, weights[b][k])[:2]
+    columns = []
+    for row, kk in enumerate(k):
+        poses = dict(base_poses)
+        for b, (R, t) in new.items():
+            Rb, tb = base_poses[b][0].copy(), base_poses[b][1].copy()
+            Rb[kk], tb[kk] = R[row], t[row]
+            poses[b] = (Rb, tb)
+        columns.append((result(poses) - base) / step_mm)
+    return columns
