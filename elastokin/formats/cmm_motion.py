@@ -47,7 +47,7 @@ def read_motion(spec: MotionSpec, folder: Path, ground: str) -> MotionMeasuremen
     patterns = mark_patterns(spec)
     files, marks = [], []
     for name, p in spec.positions.items():
-        source, found = read_marks(folder / p.file, patterns, f"position '{name}'")
+        source, found = read_marks(folder / p.file, patterns, "measured")
         files.append(source)
         marks.append(found)
     return MotionMeasurement(list(spec.positions), files, marks, g.marks, g.source)

@@ -5,15 +5,22 @@ Units mm, deg; vehicle frame at the design position."""
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+from elastokin.config.loading import suspension_from_dict
 from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
+from elastokin.errors import MeasurementError
 from elastokin.identification.motion.identify import MotionIdentification, locate_joints
-from elastokin.synthetic.virtual_motion import TrueMotion, measure
+from elastokin.studies.identification import identify_geometry
+from elastokin.synthetic.virtual_cmm import synthesize
+from elastokin.synthetic.virtual_motion import TrueMotion, measure, true_motion
 
 
 @dataclass
@@ -83,3 +90,69 @@ def monte_carlo(suspension: Suspension, true: TrueMotion, motion: MotionSpec,
 def _rms_angle(axes: np.ndarray, reference: np.ndarray) -> float:
     c = np.clip(np.abs(axes @ reference) / np.linalg.norm(reference), 0.0, 1.0)
     return float(np.degrees(np.sqrt(np.mean(np.arccos(c) ** 2))))
+
+
+def grid_positions(travel_mm: float, rack_mm: float, levels: int,
+                   wheel_turns: tuple[float, ...] = (90.0, 180.0, 270.0)) -> dict[str, dict]:
+    """A motion plan's positions: a ``levels`` x ``levels`` grid of wheel travel in
+    [-travel_mm, travel_mm] and rack travel in [-rack_mm, rack_mm] (the design position at
+    its centre; ``rack_mm`` 0: travel only) and the wheel turned by hand to ``wheel_turns``
+    at the design position. Name -> rig state (with a file name)."""
+    out = {"design": {"file": "design.csv"}}
+    for z in np.linspace(-travel_mm, travel_mm, levels):
+        for r in np.linspace(-rack_mm, rack_mm, levels) if rack_mm else [0.0]:
+            z, r = round(float(z), 3) + 0.0, round(float(r), 3) + 0.0
+            if z or r:
+                out[f"t{z:g}_r{r:g}"] = {"file": f"t{z:g}_r{r:g}.csv", "wheel_travel_mm": z,
+                                         "rack_travel_mm": r}
+    for a in wheel_turns:
+        out[f"wheel_{a:g}"] = {"file": f"wheel_{a:g}.csv", "wheel_turned_deg": a}
+    return out
+
+
+def with_positions(suspension: Suspension, positions: dict[str, dict]) -> Suspension:
+    """The suspension with its motion plan's positions replaced (rig states as in a config)."""
+    raw = copy.deepcopy(suspension.raw)
+    raw["motion"]["positions"] = positions
+    return suspension_from_dict(raw, suspension.source, suspension.sha256)
+
+
+def position_study(suspension: Suspension, plans: dict[str, dict[str, dict]], draws: int,
+                   seed: int, sigma_mm: float) -> dict[str, dict]:
+    """Each motion plan (name -> positions, :func:`grid_positions`) of the suspension's as-
+    built corner, ``draws`` draws of the CMM noise each: per plan and joint the RMS error
+    against the truth (mm; axes: deg) and the spread against the stated uncertainty; a plan
+    whose motion is too small to locate a joint keeps the message instead."""
+    union = {n: p for positions in plans.values() for n, p in positions.items()}
+    everything = with_positions(suspension, union)
+    true = true_motion(everything, np.random.default_rng(seed))
+    out = {}
+    for name, positions in plans.items():
+        motion = everything.motion.model_copy(update={"positions": {
+            n: everything.motion.positions[n] for n in positions}})
+        try:
+            spreads, _ = monte_carlo(everything, true, motion, sigma_mm, draws, seed + 1)
+        except MeasurementError as exc:
+            out[name] = {"positions": len(positions), "too_small": str(exc)}
+            continue
+        out[name] = {"positions": len(positions),
+                     "joints": {j: dataclasses.asdict(v) for j, v in spreads.items()}}
+    return out
+
+
+def disassembly_errors(suspension: Suspension, seeds: list[int], folder: Path
+                       ) -> dict[str, list[float]]:
+    """The paper's method on the same car's kind of data: for each seed the virtual CMM's
+    files (:func:`elastokin.synthetic.virtual_cmm.synthesize`: its own clearance shifts and
+    noise) identified, every joint's error against the truth (mm)."""
+    out: dict[str, list[float]] = {}
+    for seed in seeds:
+        target = folder / f"seed_{seed}"
+        raw = copy.deepcopy(suspension.raw)
+        raw["measurements"]["folder"] = str(target.resolve())
+        s = suspension_from_dict(raw, suspension.source, suspension.sha256)
+        synthesize(s, seed, target)
+        for name, j in identify_geometry(s, verify=False).joints.items():
+            if j.error_vs_truth_mm is not None:
+                out.setdefault(name, []).append(j.error_vs_truth_mm)
+    return out

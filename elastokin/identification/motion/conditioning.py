@@ -19,8 +19,9 @@ from elastokin.identification.motion.joints import SCORE, JointPlan, MotionJoint
 SINGULAR = 1e8
 
 
-def _vec(v) -> str:
-    return "(" + ", ".join(f"{x:.2f}" for x in np.asarray(v, float)) + ")"
+def vector_text(v) -> str:
+    """A direction or point as '(x, y, z)' to 2 decimals (no negative zero)."""
+    return "(" + ", ".join(f"{round(x, 2) + 0.0:.2f}" for x in np.asarray(v, float)) + ")"
 
 
 def located_condition(plan: JointPlan, poses, design: int) -> float:
@@ -48,7 +49,8 @@ def check_located(plan: JointPlan, poses, design: int, motion: MotionSpec, files
         w, v = np.linalg.eigh(joint.covariance_mm2)
         raise MeasurementError(_message(
             plan, poses, design, motion, files, joint.condition,
-            f"is located to {joint.worst_std_mm:.2f} mm (1 sigma) along {_vec(v[:, -1])}, "
+            f"is located to {joint.worst_std_mm:.2f} mm (1 sigma) along "
+            f"{vector_text(v[:, -1])}, "
             f"more than motion.max_uncertainty_mm = {motion.max_uncertainty_mm:g} mm",
             joint.worst_std_mm / motion.max_uncertainty_mm, v[:, -1]))
     unc = joint.axis_uncertainty_deg
@@ -81,10 +83,10 @@ def _message(plan: JointPlan, poses, design: int, motion: MotionSpec, files: lis
     d = direction if direction is not None else weak_direction(Ra, ta, Rb, tb, design)[0]
     normal = omega - np.outer(omega @ d, d)
     across = np.linalg.norm(normal, axis=1)
-    need = across.max() * ratio
-    return (head + f", and about axes normal to {_vec(d)} by at most {across.max():.2f} deg: "
-            f"the centre is not located along {_vec(d)}. Add positions that turn {b} relative "
-            f"to {a} about an axis normal to {_vec(d)} by about {_degrees(need)}: "
+    need, dt = across.max() * ratio, vector_text(d)
+    return (head + f", and about axes normal to {dt} by at most {across.max():.2f} deg: the "
+            f"centre is not located along {dt}. Add positions that turn {b} relative to {a} "
+            f"about an axis normal to {dt} by about {_degrees(need)}: "
             f"{_suggest(plan, d, motion)}")
 
 

@@ -29,7 +29,11 @@ from elastokin.formats.cmm_motion import (
     read_motion,
     read_motion_truth,
 )
-from elastokin.identification.motion.conditioning import check_located, located_condition
+from elastokin.identification.motion.conditioning import (
+    check_located,
+    located_condition,
+    vector_text,
+)
 from elastokin.identification.motion.functional import rack_score
 from elastokin.identification.motion.joints import (
     ON_THE_RACK,
@@ -146,7 +150,7 @@ def locate_joints(s: Suspension, mo: MotionSpec, data: MotionMeasurement,
                                        data.files)
         j.truth_mm, j.truth_axis = truth[0].get(plan.name), truth[1].get(plan.name)
         more += [f"{s.source}: joint '{plan.name}' keeps its config location along "
-                 f"({', '.join(f'{x:.2f}' for x in d)}) (motion.partly_located): the motion "
+                 f"{vector_text(d)} (motion.partly_located): the motion "
                  f"locates it there to {sd:.2f} mm only" for d, sd in j.from_config]
     sources = {"ground": data.ground_file, **dict(zip(data.positions, data.files))}
     dropped = [{"body": b, "position": data.positions[k], "mark": i}
