@@ -12,7 +12,8 @@ only (no steer). Every plan adds the wheel turned by hand to 90, 180 and 270 deg
 
 Writes benchmarks/results/motion_positions.json and the chart docs/motion_positions.png.
 ``--quick``: two plans, few draws, no disassembly comparison, nothing written unless
-``--out`` (the tests run it). Takes about 5 minutes on the 2-core development machine.
+``--out`` (the tests run it); ``--replot``: the chart again from the JSON. Takes about 7
+minutes on the 2-core development machine (load average 7-9: others' runs beside it).
 """
 
 from __future__ import annotations
@@ -64,7 +65,14 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="two plans, few draws")
     ap.add_argument("--draws", type=int, default=None, help="noise draws per plan")
     ap.add_argument("--out", type=Path, default=None, help="folder for the JSON and chart")
+    ap.add_argument("--replot", action="store_true",
+                    help="only draw the chart again from the results JSON")
     args = ap.parse_args()
+    if args.replot:
+        os.chdir(ROOT)
+        doc = json.loads((ROOT / "benchmarks" / "results" / "motion_positions.json").read_text())
+        positions_chart(doc, ROOT / "docs", config_provenance(load_suspension(CONFIG)))
+        return
     draws = args.draws or (4 if args.quick else 100)
     out = args.out.resolve() if args.out else (None if args.quick else ROOT)
     os.chdir(ROOT)  # the config named as in the repository (the charts' footer)

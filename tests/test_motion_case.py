@@ -179,3 +179,16 @@ def test_bad_motion_section_names_the_key(tmp_path, change, message):
 
     with pytest.raises((ConfigError, MeasurementError), match=re.escape(message)):
         identify_motion(load_suspension(motion_config(tmp_path, mutate)))
+
+
+def test_identify_writes_the_model_from_motion_that_kc_loads(tmp_path, located):
+    out = tmp_path / "ident"
+    result = CliRunner().invoke(main, ["identify", "--config", str(motion_config(tmp_path)),
+                                       "--out", str(out), "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in out.iterdir()) == [
+        "identified_motion.yaml", "motion_identification.json", "motion_identification.txt"]
+    s = load_suspension(out / "identified_motion.yaml")
+    assert s.label == "identified_motion" and s.motion is None and s.measurements is None
+    assert s.hardpoints["J8"].tolist() == pytest.approx(located.joints["J8"].point_mm,
+                                                         abs=1e-6)

@@ -59,9 +59,11 @@ class Output:
     everything succeeded: a failed run leaves no partial results and the previous ones
     untouched. :meth:`check` refuses an unusable ``out`` before any computation."""
 
-    def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
+    def __init__(self, out: Path, marker: str | tuple[str, ...] = "summary.json",
+                 option: str = "--out"):
         self.out = out
-        self.marker = marker  # a file that says the folder holds elastokin results
+        # a file (any of them) that says the folder holds elastokin results
+        self.markers = (marker,) if isinstance(marker, str) else tuple(marker)
         self.option = option
 
     def check(self) -> None:
@@ -69,9 +71,11 @@ class Output:
         out, opt = self.out, self.option
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"{opt} {out}: exists and is not a folder")
-        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
+        if out.is_dir() and any(out.iterdir()) and not any(
+                (out / m).exists() for m in self.markers):
             raise ElastokinError(f"{opt} {out}: folder is not empty and holds no elastokin "
-                                 f"results ({self.marker}); choose another folder")
+                                 f"results ({' or '.join(self.markers)}); choose another "
+                                 "folder")
         check_writable(out, opt)
 
     def __enter__(self) -> Path:

@@ -6,6 +6,7 @@ of a run are printed once each as ``elastokin: warning: ...`` lines."""
 from __future__ import annotations
 
 import contextlib
+import json
 import sys
 from pathlib import Path
 
@@ -116,56 +117,86 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                    "stiffness_identification.json/.txt.")
 @click.option("--quiet", is_flag=True, help="No progress, no table.")
 def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bool) -> None:
-    """Identify the joint locations from CMM data (the reference paper's method).
+    """Identify the joint locations from CMM data (the reference paper's method) and, with a
+    motion plan, from the parts' motion.
 
     Reads the parts measured alone and the assembled marks, finds every part's pose, and
     writes the identified model as a config that `elastokin kc` loads (identified.yaml: its
     model labelled 'identified', with the config's kc_test and references, so that kc
     compares it with the test), the model built from the parts alone (initial.yaml),
     identification.json and a readable identification.txt (equation numbers of the paper;
-    joints identified beyond their clearance dL_max flagged and warned about). With
-    --stiffness, also the bushing-stiffness identification against the K&C test data
-    (identified_stiffness.yaml: the identified model with the fitted laws).
+    joints identified beyond their clearance dL_max flagged and warned about). With a
+    'motion' section, also the joints located from the parts' motion at several rig
+    positions (identified_motion.yaml, motion_identification.json/.txt; docs/measurements.md).
+    With --stiffness, also the bushing-stiffness identification against the K&C test data
+    (identified_stiffness.yaml: the identified model, else identified_motion, with the fitted
+    laws).
     """
     from elastokin.config.loading import load_suspension
-    from elastokin.config.variants import ModelVariant
     from elastokin.formats.kc_test_sweeps import read_test_sweeps
-    from elastokin.mbs.design import design_state
-    from elastokin.report.files import write_identification_results
-    from elastokin.report.text import identification_table
-    from elastokin.studies.identification import identified_suspension, identify_geometry
-    from elastokin.studies.kc_job import fit
+    from elastokin.report.files import (
+        motion_dict,
+        write_identification_results,
+        write_motion_results,
+    )
+    from elastokin.report.text import identification_table, motion_table
+    from elastokin.studies.identification import identify_geometry, motion_geometry
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
-    output = Output(out_dir, marker="identification.json")
+    output = Output(out_dir, marker=("identification.json", "motion_identification.json"))
     with WarningLog() as log:
         try:
             output.check()  # before any computation
             suspension = load_suspension(config_path)
-            stages = 4 + (2 + FIT_RUNS_EXPECTED) * stiffness
+            stages = 4 + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * stiffness
             with output as tmp, progress_bar(stages, quiet) as progress:
                 test = read_test_sweeps(suspension)[0] if stiffness else []
-                ident = identify_geometry(suspension, progress=progress)
-                result = None
-                if stiffness:
-                    start = identified_suspension(ident)
-                    progress("fitting bushing stiffness to the K&C test data")
-                    result = fit(suspension,
-                                 ModelVariant("identified", start, design_state(start)), test,
-                                 progress)
+                ident = (identify_geometry(suspension, progress=progress)
+                         if suspension.measurements is not None or suspension.motion is None
+                         else None)
+                motion = motion_geometry(suspension, progress)
+                result = _identified_fit(suspension, ident, motion, test, progress) \
+                    if stiffness else None
                 progress("writing results")
-                files = write_identification_results(tmp, ident, result, config_path,
-                                                     out_dir)
+                files = [] if ident is None else write_identification_results(
+                    tmp, ident, result, config_path, out_dir)
+                doc = None if ident is None else json.loads(
+                    (tmp / "identification.json").read_text())
+                if motion is not None:
+                    files += write_motion_results(tmp, motion, result if ident is None
+                                                  else None, config_path, out_dir, doc)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
-    log.echo(ident.all_warnings)
+    log.echo([*(ident.all_warnings if ident is not None else []),
+              *(motion.warnings if motion is not None else [])])
     if not quiet:
-        click.echo(identification_table(ident))
+        if ident is not None:
+            click.echo(identification_table(ident))
+        if motion is not None:
+            click.echo(motion_table(motion_dict(motion, {}, doc)))
         if result is not None:
             click.echo(result.table())
         click.echo(f"Results in {out_dir}/: " + ", ".join(files))
+
+
+def _identified_fit(suspension, ident, motion, test, progress):
+    """The stiffness fit from the identified model (else the model from motion)."""
+    from elastokin.config.loading import suspension_from_dict
+    from elastokin.config.variants import ModelVariant
+    from elastokin.mbs.design import design_state
+    from elastokin.studies.identification import identified_suspension
+    from elastokin.studies.kc_job import fit
+
+    if ident is not None:
+        start, label = identified_suspension(ident), "identified"
+    else:
+        label = "identified_motion"
+        start = suspension_from_dict(motion.config, f"{suspension.source} ({label})",
+                                     suspension.sha256)
+    progress("fitting bushing stiffness to the K&C test data")
+    return fit(suspension, ModelVariant(label, start, design_state(start)), test, progress)
 
 
 @click.command()

@@ -46,7 +46,7 @@ def read_motion(spec: MotionSpec, folder: Path, ground: str) -> MotionMeasuremen
                   folder)
     patterns = mark_patterns(spec)
     files, marks = [], []
-    for name, p in spec.positions.items():
+    for p in spec.positions.values():
         source, found = read_marks(folder / p.file, patterns, "measured")
         files.append(source)
         marks.append(found)

@@ -343,6 +343,28 @@ def written_config(config: dict, suspension, label: str, folder: Path,
     return out
 
 
+def _header(s, config_path: Path) -> str:
+    prov = config_provenance(s)
+    return (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
+            f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
+            "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+
+
+def _stiffness_files(folder: Path, start_config: dict, s, fit, where: Path,
+                     header: str) -> list[str]:
+    """identified_stiffness.yaml (the start model with the fitted laws) and the fit's
+    files."""
+    from elastokin.identification.stiffness_results import stiffness_config
+
+    write_config(folder / "identified_stiffness.yaml",
+                 written_config(stiffness_config(start_config, fit), s,
+                                "identified_stiffness", where, fit_again=False),
+                 header.format(what="identified model with the bushing laws fitted to the "
+                               "K&C test data"))
+    return ["identified_stiffness.yaml",
+            *write_stiffness_identification(folder, fit, config_provenance(s))]
+
+
 def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                  final_folder: Path | None = None) -> list[str]:
     """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
@@ -350,14 +372,9 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
     stiffness ``fit``, identified_stiffness.yaml and stiffness_identification.json / .txt.
     ``final_folder``: where the files end up (the configs' paths are relative to it; default
     ``folder``). Returns the names."""
-    from elastokin.identification.stiffness_results import stiffness_config
-
     s = ident.suspension
     where = final_folder or folder
-    prov = config_provenance(s)
-    header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
-              f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
-              "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+    header = _header(s, config_path)
     write_config(folder / "identified.yaml",
                  written_config(ident.identified_config, s, "identified", where),
                  header.format(what="identified model (joints from the assembled "
@@ -366,16 +383,34 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                                          where, fit_again=False),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
-    write_identification(folder, ident, prov)
+    write_identification(folder, ident, config_provenance(s))
     files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
     if fit is not None:
-        write_config(folder / "identified_stiffness.yaml",
-                     written_config(stiffness_config(ident.identified_config, fit), s,
-                                    "identified_stiffness", where, fit_again=False),
-                     header.format(what="identified model with the bushing laws fitted to "
-                                   "the K&C test data"))
-        files += ["identified_stiffness.yaml",
-                  *write_stiffness_identification(folder, fit, prov)]
+        files += _stiffness_files(folder, ident.identified_config, s, fit, where, header)
+    return files
+
+
+def write_motion_results(folder: Path, motion, fit, config_path: Path,
+                         final_folder: Path | None = None, ident: dict | None = None
+                         ) -> list[str]:
+    """``elastokin identify``'s files of the joints from motion: identified_motion.yaml (a
+    config ``elastokin kc`` loads, model ``identified_motion``; the stiffness fit switched on
+    in it when no part measurements were identified, ``ident`` None) and
+    motion_identification.json / .txt; with a stiffness ``fit`` started from it,
+    identified_stiffness.yaml and the fit's files. Returns the names."""
+    s = motion.suspension
+    where = final_folder or folder
+    header = _header(s, config_path)
+    write_config(folder / "identified_motion.yaml",
+                 written_config(motion.config, s, "identified_motion", where,
+                                fit_again=ident is None),
+                 header.format(what="model identified from the parts' motion (joints from "
+                               "the marks at several rig positions, no disassembly)"))
+    write_motion_identification(folder, motion, config_provenance(s), ident)
+    files = ["identified_motion.yaml", "motion_identification.json",
+             "motion_identification.txt"]
+    if fit is not None:
+        files += _stiffness_files(folder, motion.config, s, fit, where, header)
     return files
 
 

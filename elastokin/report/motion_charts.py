@@ -31,14 +31,14 @@ def positions_chart(doc: dict, out_dir: Path, provenance: dict, name: str = "mot
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
     study = doc["plans"]
-    fig, axes = new_figure(7.0, 3.8, 1, 2)
+    fig, axes = new_figure(7.0, 4.0, 1, 2)
     spread, count = doc["spread_series"], doc["count_series"]
     panels = ((axes[0, 0], [s["plan"] for s in spread], [s["travel_mm"] for s in spread],
-               f"wheel travel spread +- mm (rack +- {doc['rack_per_travel']:g} x travel; "
-               f"{spread[0]['positions']} positions)"),
+               f"wheel travel +- mm\n(rack +- {doc['rack_per_travel']:g} x travel; 5 x 5 grid "
+               "+ 3 wheel turns)"),
               (axes[0, 1], [s["plan"] for s in count], [s["positions"] for s in count],
-               f"rig positions (travel +- {count[0]['travel_mm']:g} mm, rack +- "
-               f"{count[0]['rack_mm']:g} mm)"))
+               f"positions measured\n(n x n grid: travel +- {count[0]['travel_mm']:g}, rack "
+               f"+- {count[0]['rack_mm']:g} mm; + 3 turns)"))
     for ax, plans, x, label in panels:
         for joint in JOINTS:
             colour, marker = _STYLE[joint]
@@ -50,7 +50,7 @@ def positions_chart(doc: dict, out_dir: Path, provenance: dict, name: str = "mot
                         xytext=(3, 2), textcoords="offset points", ha="left", va="bottom",
                         fontsize=7, color="0.35")
         ax.set_yscale("log")
-        ax.yaxis.set_major_locator(FixedLocator([0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0]))
+        ax.yaxis.set_major_locator(FixedLocator([0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3, 0.5, 1.0]))
         ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.yaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(label, fontsize=8)
