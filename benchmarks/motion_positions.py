@@ -41,7 +41,7 @@ RACK_PER_TRAVEL = 0.375  # +-30 mm of rack at +-80 mm of travel
 
 def plans(quick: bool) -> tuple[dict, list[dict], list[dict]]:
     """The plans, the spread series and the count series."""
-    spreads = [20.0, 80.0] if quick else [10.0, 20.0, 40.0, 60.0, 80.0]
+    spreads = [80.0] if quick else [10.0, 20.0, 40.0, 60.0, 80.0]
     levels = [3] if quick else [3, 5, 7, 9]
     out, spread, count = {}, [], []
     for t in spreads:
@@ -73,7 +73,7 @@ def main() -> None:
         doc = json.loads((ROOT / "benchmarks" / "results" / "motion_positions.json").read_text())
         positions_chart(doc, ROOT / "docs", config_provenance(load_suspension(CONFIG)))
         return
-    draws = args.draws or (4 if args.quick else 100)
+    draws = args.draws or (3 if args.quick else 100)
     out = args.out.resolve() if args.out else (None if args.quick else ROOT)
     os.chdir(ROOT)  # the config named as in the repository (the charts' footer)
     s = load_suspension(CONFIG)

@@ -80,8 +80,8 @@ def test_ball_joints_within_0_2_mm_and_axes_within_0_5_deg(located):
         assert j[name].axis_error_deg < 0.5 and j[name].axis_uncertainty_deg < 0.1, name
         assert j[name].error_vs_truth_mm < 0.5, name
     gross = truth["gross_error"]
-    assert [(d["body"], d["position"]) for d in located.dropped_marks] == [
-        (gross["body"], gross["position"])]
+    assert [(d["body"], d["position"], d["mark"]) for d in located.dropped_marks] == [
+        (gross["body"], gross["position"], gross["label"])]
     assert located.noise_sigma_mm == pytest.approx(truth["noise_sigma_per_coordinate_mm"],
                                                    rel=0.1)
     assert j["tie_rod:J3"].from_config  # steering slides the tie rod along itself
@@ -192,3 +192,21 @@ def test_identify_writes_the_model_from_motion_that_kc_loads(tmp_path, located):
     assert s.label == "identified_motion" and s.motion is None and s.measurements is None
     assert s.hardpoints["J8"].tolist() == pytest.approx(located.joints["J8"].point_mm,
                                                          abs=1e-6)
+
+
+@pytest.mark.slow
+def test_the_positions_study_quick_mode(tmp_path):
+    """benchmarks/motion_positions.py --quick: two plans, three noise draws; the JSON and the
+    chart written; the full plan's ball joints located to about 0.1 mm."""
+    import subprocess
+    import sys
+
+    script = CASE.parents[1] / "benchmarks" / "motion_positions.py"
+    done = subprocess.run([sys.executable, str(script), "--quick", "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    doc = json.loads((tmp_path / "motion_positions.json").read_text())
+    assert (tmp_path / "motion_positions.png").stat().st_size > 10_000
+    joints = doc["plans"]["grid5_travel80"]["joints"]
+    for name in BALL_JOINTS:
+        assert joints[name]["stated_mm"] < 0.15 and joints[name]["rms_error_mm"] < 0.3

@@ -51,8 +51,8 @@ def progress_bar(stages: int, quiet: bool = False):
 @click.option("--models", "models", default=None, metavar="NAMES",
               help="Comma-separated models to run (default: every model the config yields: "
                    "initial and identified with CMM data, else initial and initial_kinematic; "
-                   "identified_stiffness with K&C test data). E.g. --models initial,identified "
-                   "skips the stiffness fit.")
+                   "identified_motion with a motion plan; identified_stiffness with K&C test "
+                   "data). E.g. --models initial,identified skips the stiffness fit.")
 @click.option("--refit", is_flag=True,
               help="Recompute the identification and the stiffness fit even when the "
                    "previous results in --out hold them for the same inputs (their cache).")
@@ -204,7 +204,8 @@ def _identified_fit(suspension, ident, motion, test, progress):
               type=click.Path(dir_okay=False, path_type=Path),
               help="Nominal suspension config with a 'measurements' section.")
 @click.option("--seed", type=int, default=None,
-              help="Random seed (default: measurements.synthetic.seed of the config).")
+              help="Random seed (default: measurements.synthetic.seed of the config; for the "
+                   "motion plan's files motion.synthetic.seed).")
 @click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's measurements.folder",
               help="Folder for the CMM files (the config's measurements.folder by default).")

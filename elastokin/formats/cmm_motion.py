@@ -15,7 +15,7 @@ from elastokin.config.loading import read_yaml
 from elastokin.config.schema import PartMeasurementSpec
 from elastokin.config.schema_motion import MotionSpec
 from elastokin.errors import MeasurementError
-from elastokin.formats.cmm_parts import read_marks, read_part
+from elastokin.formats.cmm_parts import read_labelled_marks, read_part
 
 #: the name of the wheel's marks (``motion.wheel_marks``) among the measured bodies
 WHEEL = "wheel"
@@ -31,6 +31,7 @@ class MotionMeasurement:
     marks: list[dict[str, np.ndarray]]  # per position: body -> (3 or 4, 3)
     ground_marks: np.ndarray  # (4, 3), config frame
     ground_file: str
+    labels: list[dict[str, list[str]]] | None = None  # the marks' labels in the files
 
 
 def mark_patterns(spec: MotionSpec) -> dict[str, str]:
@@ -45,12 +46,13 @@ def read_motion(spec: MotionSpec, folder: Path, ground: str) -> MotionMeasuremen
     g = read_part(ground, PartMeasurementSpec(file=spec.ground.file, marks=spec.ground.marks),
                   folder)
     patterns = mark_patterns(spec)
-    files, marks = [], []
+    files, marks, labels = [], [], []
     for p in spec.positions.values():
-        source, found = read_marks(folder / p.file, patterns, "measured")
+        source, found, named = read_labelled_marks(folder / p.file, patterns, "measured")
         files.append(source)
         marks.append(found)
-    return MotionMeasurement(list(spec.positions), files, marks, g.marks, g.source)
+        labels.append(named)
+    return MotionMeasurement(list(spec.positions), files, marks, g.marks, g.source, labels)
 
 
 def read_motion_truth(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:

@@ -67,8 +67,16 @@ def read_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
     """The marks of each body (unordered, the file's frame, mm) in a file of many bodies'
     marks, selected by each body's label pattern (``fnmatch``); 3 or 4 per body. Returns the
     file's name and the marks."""
+    source, marks, _ = read_labelled_marks(path, patterns, what)
+    return source, marks
+
+
+def read_labelled_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
+                        ) -> tuple[str, dict[str, np.ndarray], dict[str, list[str]]]:
+    """:func:`read_marks`, with each body's marks' labels in the same order."""
     data = read_points(path)
     out: dict[str, list] = {p: [] for p in patterns}
+    labels: dict[str, list[str]] = {p: [] for p in patterns}
     for label in data.order:
         owners = [p for p in patterns if fnmatch.fnmatchcase(label, patterns[p])]
         if len(owners) > 1:
@@ -76,6 +84,7 @@ def read_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
                                    f"parts {', '.join(owners)}")
         if owners:
             out[owners[0]].append(data.points[label])
+            labels[owners[0]].append(label)
     for p, pts in out.items():
         if len(pts) < 3:
             raise MeasurementError(
@@ -84,7 +93,7 @@ def read_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
         if len(pts) > 4:
             raise MeasurementError(f"{data.source}: part '{p}': {len(pts)} {what} marks "
                                    f"match '{patterns[p]}'; a part has 4 marks")
-    return data.source, {p: np.array(v) for p, v in out.items()}
+    return data.source, {p: np.array(v) for p, v in out.items()}, labels
 
 
 def read_truth(path: Path) -> dict[str, np.ndarray]:

@@ -60,6 +60,6 @@ def motion_section(doc: dict) -> list[str]:
                    "wheel turned deg"], _position_rows(doc))]
     if doc["dropped_marks"]:
         out.append(note("Wrong marks dropped: " + "; ".join(
-            f"{esc(d['body'])} at '{esc(d['position'])}' (mark {d['mark'] + 1})"
+            f"{esc(d['body'])} at '{esc(d['position'])}' (mark '{esc(d['mark'])}')"
             for d in doc["dropped_marks"]) + "."))
     return out

@@ -240,7 +240,7 @@ def motion_table(doc: dict) -> str:
                    f"{f(j['axis_uncertainty_deg'], '.3f'):>9}{f(j['axis_error_deg'], '.3f'):>8}")
     if doc["dropped_marks"]:
         out += ["", "Wrong marks dropped (poses fitted to the other three):"]
-        out += [f"  {d['body']} at position '{d['position']}', mark {d['mark'] + 1}"
+        out += [f"  {d['body']} at position '{d['position']}': mark '{d['mark']}'"
                 for d in doc["dropped_marks"]]
     if doc["warnings"]:
         out += ["", "Warnings:"] + [f"  - {w}" for w in doc["warnings"]]

@@ -285,9 +285,11 @@ def measure(true: TrueMotion, motion: MotionSpec, ground: str, sigma_mm: float,
         for body, local in true.marks.items():
             q = (local @ T[body][:3, :3].T + T[body][:3, 3]) @ cmm_R.T + cmm_t
             q = q + rng.normal(scale=sigma_mm, size=q.shape)
+            order = rng.permutation(4)
             if gross and (name, body) == (gross["position"], gross["body"]):
                 q[gross["mark"]] += gross["error_mm"]
-            out[body] = q[rng.permutation(4)]
+                gross["index_in_file"] = int(np.flatnonzero(order == gross["mark"])[0])
+            out[body] = q[order]
         measured.append(out)
     return (MotionMeasurement(names, names, measured, ground_marks, "ground"),
             {"cmm_frame": (cmm_R, cmm_t), "gross_error": gross})
@@ -313,6 +315,9 @@ def synthesize_motion(suspension: Suspension, seed: int | None = None,
     files = _write(folder / mo.ground.file, dict(zip(mo.ground.marks, data.ground_marks)),
                    f"ground '{s.ground}': its marks in the config frame; mm\n{stamp}")
     patterns = mark_patterns(mo)
+    gross = extra["gross_error"]
+    gross["label"] = mark_labels(patterns[gross["body"]], 4, gross["body"])[
+        gross.pop("index_in_file")]
     for (name, p), measured in zip(mo.positions.items(), data.marks):
         out = {}
         for body, q in measured.items():

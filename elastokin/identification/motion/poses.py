@@ -36,7 +36,8 @@ class MotionMarks:
     raw: dict[str, np.ndarray]
     reference: dict[str, int]
     design: int
-    dropped: list[tuple[str, int, int]] = field(default_factory=list)  # body, position, mark
+    # the wrong marks dropped: body, position, the mark's label in its file (or its index)
+    dropped: list[tuple[str, int, str]] = field(default_factory=list)
 
     @property
     def positions(self) -> int:
@@ -92,10 +93,12 @@ def order_marks(data: MotionMeasurement, ground: str, design: int, eps_mm: float
                 if j is not None:
                     out[k, i] = q[j]
             if match.dropped_mark is not None and len(q) == 4:
-                dropped.append((body, k, match.dropped_mark))
-                warnings.append(f"{data.files[k]}: body '{body}': one mark was not found "
-                                "within eps: the wrong point was dropped and the pose fitted "
-                                "to the other three")
+                bad = next(j for j in range(4) if j not in match.order)
+                label = data.labels[k][body][bad] if data.labels else f"#{bad + 1}"
+                dropped.append((body, k, label))
+                warnings.append(f"{data.files[k]}: body '{body}': mark '{label}' is not where "
+                                "the other positions put it (beyond eps): dropped, the pose "
+                                "fitted to the other three")
             warnings += [f"{data.files[k]}: {w}" for w in match.warnings
                          if "pose residual" in w]
         raw[body] = out
