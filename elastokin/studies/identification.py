@@ -68,24 +68,37 @@ def motion_files(suspension: Suspension) -> list[Path]:
     return [folder / n for n in names + ([mo.truth] if mo.truth else [])]
 
 
+def cached_step(cache, name: str, key: str, compute: Callable[[], object],
+                reused: Callable[[], None]):
+    """A step's result from ``cache`` (a :class:`~elastokin.studies.cache.ResultCache` or
+    None) when stored under ``name`` for ``key`` (``reused()`` then says so), else
+    ``compute()``; stored either way."""
+    found = cache.get(name, key) if cache is not None else None
+    if found is None:
+        found = compute()
+    else:
+        reused()
+    if cache is not None:
+        cache.put(name, key, found)
+    return found
+
+
 def motion_geometry(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
                     cache=None) -> MotionIdentification | None:
     """The step ``motion_geometry`` of the K&C job: the joints located from the parts' motion
-    when the config has a motion plan (``motion``; from ``cache``, a
-    :class:`~elastokin.studies.cache.ResultCache`, when the config and the files are those it
-    was computed from). On an axle its config keeps the ``axle`` section: the other side is
-    the located corner mirrored."""
+    when the config has a motion plan (``motion``; from ``cache`` when the config and the
+    files are those it was computed from). On an axle its config keeps the ``axle`` section:
+    the other side is the located corner mirrored."""
     if suspension.motion is None:
         return None
-    key = content_key("motion_geometry", suspension.sha256, *motion_files(suspension))
-    found = cache.get("motion_geometry", key) if cache is not None else None
-    if found is None:
+
+    def compute() -> MotionIdentification:
         progress("locating the joints from the parts' motion")
         found = identify_motion(suspension, progress)
         if suspension.axle is not None:
             found.config["axle"] = plain_data(suspension.raw["axle"])
-    else:
-        progress("joints from motion reused (same config and CMM files)")
-    if cache is not None:
-        cache.put("motion_geometry", key, found)
-    return found
+        return found
+
+    key = content_key("motion_geometry", suspension.sha256, *motion_files(suspension))
+    return cached_step(cache, "motion_geometry", key, compute, lambda: progress(
+        "joints from motion reused (same config and CMM files)"))

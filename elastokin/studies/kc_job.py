@@ -59,7 +59,12 @@ from elastokin.rig.load_cases import (
 )
 from elastokin.rig.sweeps import Sweep, find_sweep
 from elastokin.studies.cache import ResultCache, content_key
-from elastokin.studies.identification import identify_geometry, motion_files, motion_geometry
+from elastokin.studies.identification import (
+    cached_step,
+    identify_geometry,
+    motion_files,
+    motion_geometry,
+)
 
 Progress = Callable[[str], None]
 
@@ -149,16 +154,13 @@ def geometry(suspension: Suspension, progress: Progress = _quiet,
     ``cache`` when the config and the CMM files are those it was computed from)."""
     if suspension.measurements is None:
         return None
-    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
-    ident = cache.get("geometry", key) if cache is not None else None
-    if ident is None:
+    def compute() -> Identification:
         progress("identifying the geometry from CMM data")
-        ident = identify_geometry(suspension)
-    else:
-        progress("identified geometry reused (same config and CMM files)")
-    if cache is not None:
-        cache.put("geometry", key, ident)
-    return ident
+        return identify_geometry(suspension)
+
+    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
+    return cached_step(cache, "geometry", key, compute, lambda: progress(
+        "identified geometry reused (same config and CMM files)"))
 
 
 def model_labels(suspension: Suspension) -> list[str]:
