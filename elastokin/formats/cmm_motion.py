@@ -11,9 +11,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from elastokin.config.confined import data_file
 from elastokin.config.loading import read_yaml
 from elastokin.config.schema import PartMeasurementSpec
 from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.suspension import Suspension
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm_parts import read_labelled_marks, read_part
 
@@ -40,15 +42,33 @@ def mark_patterns(spec: MotionSpec) -> dict[str, str]:
     return {**spec.marks, **({WHEEL: spec.wheel_marks} if spec.wheel_marks else {})}
 
 
-def read_motion(spec: MotionSpec, folder: Path, ground: str) -> MotionMeasurement:
-    """Read the ground's marks and every position's file (errors name the file and the
-    body: a file without a body's marks, fewer than 3 of them, more than 4)."""
-    g = read_part(ground, PartMeasurementSpec(file=spec.ground.file, marks=spec.ground.marks),
-                  folder)
+def motion_paths(s: Suspension, folder: str | Path | None = None) -> dict[str, Path]:
+    """The files of the config's motion plan: ``ground``, then each position's by name and
+    (synthetic data) ``truth``, in ``motion.folder`` or in ``folder`` (typed on the command
+    line); each confined to the config's folders
+    (:func:`elastokin.config.confined.data_file`), none opened."""
+    mo = s.motion
+    if mo is None:
+        return {}
+    out = {"ground": data_file(s, "motion", mo.ground.file, "motion.ground.file", folder)}
+    for name, p in mo.positions.items():
+        out[name] = data_file(s, "motion", p.file, f"motion.positions.{name}.file", folder)
+    if mo.truth is not None:
+        out["truth"] = data_file(s, "motion", mo.truth, "motion.truth", folder)
+    return out
+
+
+def read_motion(s: Suspension) -> MotionMeasurement:
+    """Read the ground's marks and every position's file of the config's motion plan
+    (:func:`motion_paths`; errors name the file and the body: a file without a body's marks,
+    fewer than 3 of them, more than 4)."""
+    spec, paths = s.motion, motion_paths(s)
+    g = read_part(s.ground, PartMeasurementSpec(file=spec.ground.file, marks=spec.ground.marks),
+                  paths["ground"])
     patterns = mark_patterns(spec)
     files, marks, labels = [], [], []
-    for p in spec.positions.values():
-        source, found, named = read_labelled_marks(folder / p.file, patterns, "measured")
+    for name in spec.positions:
+        source, found, named = read_labelled_marks(paths[name], patterns, "measured")
         files.append(source)
         marks.append(found)
         labels.append(named)

@@ -12,6 +12,7 @@ from elastokin.config.frozen import plain_data
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
+from elastokin.formats.cmm_motion import motion_paths
 from elastokin.identification.geometric import (
     Identification,
     apply_design_loads,
@@ -60,12 +61,7 @@ def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = 
 
 def motion_files(suspension: Suspension) -> list[Path]:
     """The CMM files of the config's motion plan (for the cache key)."""
-    mo = suspension.motion
-    if mo is None:
-        return []
-    folder = Path(suspension.source).parent / mo.folder
-    names = [mo.ground.file] + [p.file for p in mo.positions.values()]
-    return [folder / n for n in names + ([mo.truth] if mo.truth else [])]
+    return list(motion_paths(suspension).values())
 
 
 def cached_step(cache, name: str, key: str, compute: Callable[[], object],

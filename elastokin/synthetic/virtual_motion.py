@@ -31,6 +31,7 @@ import numpy as np
 import yaml
 from scipy.spatial.transform import Rotation
 
+from elastokin.config.confined import data_file
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import check_motion
 from elastokin.config.schema import LinkSpec, SuspensionFile
@@ -39,7 +40,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner, side_couplings
 from elastokin.errors import ConfigError
 from elastokin.formats.cmm import write_points
-from elastokin.formats.cmm_motion import WHEEL, MotionMeasurement, mark_patterns
+from elastokin.formats.cmm_motion import WHEEL, MotionMeasurement, mark_patterns, motion_paths
 from elastokin.mbs.axle_elements import STEERING_LOCK
 from elastokin.mbs.design import build_model, design_state
 from elastokin.physics.pose import frame_from_z
@@ -309,10 +310,10 @@ def synthesize_motion(suspension: Suspension, seed: int | None = None,
     true = true_motion(suspension, rng)
     sigma = syn.noise_mm / CHI3_95
     data, extra = measure(true, mo, s.ground, sigma, rng, syn.gross_error_mm)
-    folder = Path(folder) if folder is not None else Path(s.source).parent / mo.folder
-    folder.mkdir(parents=True, exist_ok=True)
+    paths = _written_paths(s, folder)
+    next(iter(paths.values())).parent.mkdir(parents=True, exist_ok=True)
     stamp = f"elastokin synthesize, seed {seed}, config {Path(s.source).name}"
-    files = _write(folder / mo.ground.file, dict(zip(mo.ground.marks, data.ground_marks)),
+    files = _write(paths["ground"], dict(zip(mo.ground.marks, data.ground_marks)),
                    f"ground '{s.ground}': its marks in the config frame; mm\n{stamp}")
     patterns = mark_patterns(mo)
     gross = extra["gross_error"]
@@ -322,11 +323,25 @@ def synthesize_motion(suspension: Suspension, seed: int | None = None,
         out = {}
         for body, q in measured.items():
             out.update(zip(mark_labels(patterns[body], 4, body), q))
-        files += _write(folder / p.file, out, f"position '{name}' ({_state(p)}): every body's "
+        files += _write(paths[name], out, f"position '{name}' ({_state(p)}): every body's "
                         f"marks in the CMM frame, unordered; mm\n{stamp}")
     if mo.truth is not None:
-        files.append(_write_truth(folder / mo.truth, true, seed, syn.noise_mm, sigma, extra))
+        files.append(_write_truth(paths["truth"], true, seed, syn.noise_mm, sigma, extra))
     return files
+
+
+def _written_paths(s: Suspension, folder: Path | None) -> dict[str, Path]:
+    """The files to write (:func:`~elastokin.formats.cmm_motion.motion_paths`, in ``folder``
+    when given), every one in both formats inside the config's folders (or ``folder``, typed
+    on the command line), links followed: a config from someone else writes nothing
+    elsewhere."""
+    mo = s.motion
+    names = {"motion.ground.file": mo.ground.file,
+             **{f"motion.positions.{n}.file": p.file for n, p in mo.positions.items()}}
+    for key, name in names.items():
+        for ext in (".igs", ".csv"):
+            data_file(s, "motion", str(Path(name).with_suffix(ext)), key, folder)
+    return motion_paths(s, folder)
 
 
 def _write_truth(path: Path, true: TrueMotion, seed: int, noise_mm: float, sigma: float,

@@ -14,7 +14,6 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from elastokin.errors import ConfigError
 from elastokin.formats.cmm_motion import (
     WHEEL,
     MotionMeasurement,
+    motion_paths,
     read_motion,
     read_motion_truth,
 )
@@ -111,10 +111,9 @@ def identify_motion(suspension: Suspension, progress: Callable[[str], None] = la
     if mo is None:
         raise ConfigError(f"{s.source}: no 'motion' section: nothing to identify from motion")
     check_motion(s, mo, "motion")
-    folder = Path(s.source).parent / mo.folder
     progress("reading the motion measurements")
-    data = read_motion(mo, folder, s.ground)
-    truth = read_motion_truth(folder / mo.truth) if mo.truth else ({}, {})
+    data = read_motion(s)
+    truth = read_motion_truth(motion_paths(s)["truth"]) if mo.truth else ({}, {})
     ident = locate_joints(s, mo, data, truth, progress)
     config, kept = motion_config(s, ident.joints)
     if kept:
