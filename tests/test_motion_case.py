@@ -172,6 +172,8 @@ def test_bad_motion_data_one_clear_line_nothing_written(tmp_path, mutate, messag
      "not located from the motion"),
     (lambda m: m["positions"].__setitem__("again", {"file": "design.csv"}),
      "design.csv named by two positions"),
+    (lambda m: m["positions"]["design"].__setitem__("file", "/etc/hostname"),
+     "key 'motion.positions.design.file': file '/etc/hostname' leads to"),
 ])
 def test_bad_motion_section_names_the_key(tmp_path, change, message):
     def mutate(data, folder):
