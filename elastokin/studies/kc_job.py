@@ -167,6 +167,7 @@ def geometry(suspension: Suspension, progress: Progress = _quiet,
     ``cache`` when the config and the CMM files are those it was computed from)."""
     if suspension.measurements is None:
         return None
+
     def compute() -> Identification:
         progress("identifying the geometry from CMM data")
         return identify_geometry(suspension)
@@ -241,7 +242,7 @@ def model_variants(suspension: Suspension, ident: Identification | None = None,
     else:
         labels = model_labels(s)
         variants = {labels[0]: ModelVariant(labels[0], s)}
-        if len(labels) > 1 and motion is None:
+        if len(labels) > 1 and labels[1] == f"{s.label}_kinematic":
             variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
     if motion is not None:
         variants["identified_motion"] = from_config("identified_motion", motion.config)
