@@ -12,6 +12,12 @@ the same load case. Suspensions: the shipped double wishbone axle
 (configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
 (configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
 
+The twist beam (configs/twist_beam_axle.yaml) is timed against the same axle with a rigid
+cross beam (``ek.rigid_beams``; built with the flexible axle's
+design preloads: on two ball joints a rigid axle is over-constrained in the assembly check),
+load case by load case: what the flexible beam (its elements and the shear-centre chain)
+costs per point.
+
 Each model's static state (the zero of every load case) is solved once, as ``elastokin kc``
 does, and not timed. Prints the figures and writes them to
 ``benchmarks/results/bench_axle.json``, with the machine's load average before and after. No
@@ -39,6 +45,7 @@ ROOT = Path(__file__).resolve().parents[1]
 QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
 CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
            "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
+TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 
 
 def best_of(fn, repeat: int) -> float:
@@ -50,10 +57,11 @@ def best_of(fn, repeat: int) -> float:
     return best
 
 
-def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
-    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s``."""
+def load_case_times(s, repeat: int, design=None) -> tuple[float, dict[str, dict]]:
+    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s`` (with
+    these design preloads, or its own)."""
     t0 = time.perf_counter()
-    model = ek.build_model(s)
+    model = ek.build_model(s, design=design)
     build = time.perf_counter() - t0
     static = ek.static_states(model)  # every load case's zero, solved once (as elastokin kc)
     out = {}
@@ -78,6 +86,22 @@ def compare(path: Path, repeat: int, rig: Path | None = None) -> dict:
             "ratio_axle_to_corner_per_point": ratios}
 
 
+def compare_beam(path: Path, repeat: int, rig: Path | None = None) -> dict:
+    """The twist beam's cost per point against the same axle with a rigid cross beam."""
+    flexible = ek.load_suspension_with_rig(path, rig)
+    design = ek.design_state(flexible)
+    build_flexible, times_flexible = load_case_times(flexible, repeat, design)
+    build_rigid, times_rigid = load_case_times(ek.rigid_beams(flexible), repeat, design)
+    ratios = {case: t["ms_per_point"] / times_rigid[case]["ms_per_point"]
+              for case, t in times_flexible.items()}
+    return {"config": str(path.relative_to(ROOT)), "config_sha256": flexible.sha256,
+            "beam_elements": sum(b.elements_per_segment * (len(b.nodes_mm) - 1)
+                                 for b in flexible.beams),
+            "build_s": {"flexible": build_flexible, "rigid": build_rigid},
+            "flexible": times_flexible, "rigid": times_rigid,
+            "ratio_flexible_to_rigid_per_point": ratios}
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
@@ -89,12 +113,14 @@ def main(argv: list[str] | None = None) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
         figures = {name: compare(path, repeat, rig) for name, path in CONFIGS.items()}
+        beam = compare_beam(TWIST_BEAM, repeat, rig)
     result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
               "quick": args.quick,
               "machine": {"python": platform.python_version(),
                           "processor": platform.machine(), "cpus": os.cpu_count()},
               "repeat": repeat, "load_average_before": load_before,
-              "load_average_after": os.getloadavg(), "suspensions": figures}
+              "load_average_after": os.getloadavg(), "suspensions": figures,
+              "twist_beam": beam}
     write_json(out, result)
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {result['load_average_after'][0]:.2f}")
@@ -108,6 +134,14 @@ def main(argv: list[str] | None = None) -> None:
             corner_ms = f"{c['ms_per_point']:14.3f}" if c else f"{'-':>14}"
             ratio = f"{f['ratio_axle_to_corner_per_point'][case]:8.2f}" if c else f"{'-':>8}"
             print(f"  {case:<28}{a['points']:7d}{a['ms_per_point']:12.3f}{corner_ms}{ratio}")
+    print(f"\ntwist beam ({beam['config']}, {beam['beam_elements']} beam elements) against "
+          f"a rigid cross beam: build {beam['build_s']['flexible']:.2f} s / "
+          f"{beam['build_s']['rigid']:.2f} s")
+    print(f"  {'load case':<28}{'points':>7}{'beam ms/pt':>12}{'rigid ms/pt':>13}{'ratio':>8}")
+    for case, t in beam["flexible"].items():
+        print(f"  {case:<28}{t['points']:7d}{t['ms_per_point']:12.3f}"
+              f"{beam['rigid'][case]['ms_per_point']:13.3f}"
+              f"{beam['ratio_flexible_to_rigid_per_point'][case]:8.2f}")
     print(f"\nwritten to {out}")
 
 
