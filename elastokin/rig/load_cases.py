@@ -58,8 +58,8 @@ if TYPE_CHECKING:
 
 
 class StaticStateWarning(UserWarning):
-    """A model has no static equilibrium under the design wheel load (e.g. a kinematic model
-    without a spring): its changes are then from the design position (the message says so)."""
+    """A model without a spring has no static equilibrium under the design wheel load: its
+    changes are then from the design position (the message says so)."""
 
 
 def static_states(model: SuspensionModel, variations: Sequence | None = None
@@ -68,19 +68,28 @@ def static_states(model: SuspensionModel, variations: Sequence | None = None
     contact patch carrying the design wheel load, patches free (force control), steering
     held. It is the zero of the rig: every change-from-static channel
     (:func:`elastokin.rig.characteristics.characteristics`) and every pad height
-    (:func:`run_drive_sides`) is referenced to it. Without such an equilibrium, the design
-    position, with a :class:`StaticStateWarning`. ``variations``: with its sensitivities
+    (:func:`run_drive_sides`) is referenced to it. A model without a spring that has no such
+    equilibrium (e.g. a kinematic one: nothing carries the load) is referenced to its design
+    position, with a :class:`StaticStateWarning`; any other failed solve raises
+    :class:`~elastokin.errors.SolverError` (a start far from equilibrium: the DOE then
+    solves it by continuation). ``variations``: with its sensitivities
     (:func:`~elastokin.rig.pad.run_rig`)."""
     s = model.suspension
     try:
         return _design_load_states(model, variations)
     except SolverError as exc:
+        if s.springs:
+            raise
         warnings.warn(StaticStateWarning(
             f"{exc}: the changes (wheel travel, wheel-centre displacements, track and "
             "wheelbase change, steer angle) and the rig's pad heights are from the design "
             "position"), stacklevel=2)
+    # the design position does not move with the parameters of ``variations``
+    fixed = None if not variations else {k: np.zeros((3, len(variations)))
+                                         for k in ("wheel_centre_mm", "spin_axis")}
     return {side: StepState(w.centre_mm, w.spin_axis, np.eye(3), w.contact_patch_mm,
-                            np.zeros(3), {}, {}, {}) for side, w in s.wheels.items()}
+                            np.zeros(3), {}, {}, {}, sensitivity=fixed)
+            for side, w in s.wheels.items()}
 
 
 def _design_load_states(model: SuspensionModel, variations: Sequence | None = None
