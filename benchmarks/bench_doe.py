@@ -121,6 +121,7 @@ def main(argv: list[str] | None = None) -> None:
     add_output_options(ap, "bench_doe")
     args = ap.parse_args(argv)
     out = output_path(args, "bench_doe")
+    load_before = os.getloadavg()[0]
     if args.quick:
         args.sweeps, args.batch, args.repeat = 2, 1, 1
 
@@ -146,7 +147,7 @@ def main(argv: list[str] | None = None) -> None:
         "quick": args.quick,
         "machine": {"python": platform.python_version(), "processor": platform.machine(),
                     "cores": os.cpu_count()},
-        "load_average_1min_before": os.getloadavg()[0],
+        "load_average_1min_before": load_before,
         "sweep": {"load_case": "parallel_travel (elastokin doe --load-cases travel)",
                   "stroke_points": prof["stroke_points"],
                   "stroke_mm": [spec.rebound_mm, spec.bump_mm], "step_mm": spec.step_mm,
