@@ -13,6 +13,7 @@ import numpy as np
 
 from elastokin.config.axle import (
     MIRROR,
+    check_both_sides,
     check_mirror_plane,
     check_names,
     check_shared,
@@ -52,8 +53,9 @@ class MirroredResolver(Resolver):
     def name(self, name: str) -> str:
         return name + self.suffix
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        return not declared_once(parts, self.shared, self.spec.ground)
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        return name in self.spec.axle.both_sides or \
+            not declared_once(parts, self.shared, self.spec.ground)
 
     def part(self, name: str, key: str) -> str:
         base = super().part(name, key)
@@ -93,6 +95,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_shared(corner, spec, resolver.fail)
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
+    check_both_sides(corner, spec, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
     suffix = mirrored.suffix
@@ -107,7 +110,9 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     hardpoints = dict(corner.hardpoints)
     hardpoints.update({n + suffix: v for n, v in mirrored.hardpoints.items()})
     d = resolver.spec.design
-    balance = (d.balance_spring, d.balance_spring + suffix) if d.balance_spring else ()
+    springs = {sp.name for sp in corner.springs + other.springs}
+    balance = tuple(n for n in (d.balance_spring, f"{d.balance_spring}{suffix}")
+                    if d.balance_spring and n in springs)
     axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
                 spec.vehicle, balance)
     return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints,
