@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
+from scipy.optimize import brentq, least_squares
 from scipy.spatial.transform import Rotation
 
 from elastokin.config.variants import kinematic
@@ -55,6 +55,49 @@ def toe_camber_deg(spin: np.ndarray) -> tuple[float, float]:
 
 def wheel_centre(sweep, k: int) -> np.ndarray:
     return np.array([sweep.columns[f"wheel_centre_{a}_mm"][k] for a in "xyz"])
+
+
+# ------------------------------------------------------------------------- multi-link
+#: (chassis point, upright point) of each of the five distances that hold the upright: the
+#: upper A-arm's two (its revolute axis through both chassis points), the lateral, trailing
+#: and toe links
+MULTILINK_LINKS = [("uca_front", "uca_outer"), ("uca_rear", "uca_outer"),
+                   ("lateral_inner", "lateral_outer"), ("trailing_front", "trailing_rear"),
+                   ("toe_link_inner", "toe_link_outer")]
+
+
+def upright_pose(d: dict, z_mm: float, start: np.ndarray) -> np.ndarray:
+    """The upright's pose (rotation vector, rad; wheel-centre displacement, mm) at which the
+    five link lengths are those of the design and the wheel centre is at height ``z_mm``."""
+    c0 = point(d, "wheel_centre")
+    links = [(point(d, a), point(d, b) - c0, np.linalg.norm(point(d, b) - point(d, a)))
+             for a, b in MULTILINK_LINKS]
+
+    def residual(x):
+        R = Rotation.from_rotvec(x[:3]).as_matrix()
+        out = [np.linalg.norm(c0 + x[3:] + R @ local - fixed) - length
+               for fixed, local, length in links]
+        return np.array(out + [c0[2] + x[5] - z_mm])
+
+    fit = least_squares(residual, start, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    assert np.max(np.abs(fit.fun)) < 1e-9
+    return fit.x
+
+
+def test_multilink_toe_and_camber_from_a_loop_closure():
+    d, sweep = kinematic_travel("multilink_axle.yaml")
+    pose = np.zeros(6)
+    toe, camber = [], []
+    for k in range(sweep.steps):
+        pose = upright_pose(d, wheel_centre(sweep, k)[2], pose)
+        spin = Rotation.from_rotvec(pose[:3]).as_matrix() @ np.array([0.0, 1.0, 0.0])
+        t, c = toe_camber_deg(spin)
+        toe.append(t)
+        camber.append(c)
+    travel = sweep.columns["wheel_travel_mm"]
+    assert np.ptp(travel) > 100.0 and np.ptp(toe) > 0.1 and np.ptp(camber) > 1.0  # it moves
+    np.testing.assert_allclose(sweep.columns["toe_deg"], toe, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(sweep.columns["camber_deg"], camber, rtol=0, atol=1e-6)
 
 
 # ------------------------------------------------------------------------- semi-trailing arm
