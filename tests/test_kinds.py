@@ -125,3 +125,90 @@ def test_semi_trailing_arm_turns_about_its_pivot_axis():
         assert sweep.columns["toe_deg"][k] == pytest.approx(toe, abs=1e-9)
         assert sweep.columns["camber_deg"][k] == pytest.approx(camber, abs=1e-9)
     assert np.ptp(sweep.columns["toe_deg"]) > 1.0  # the inclined axis steers the wheel
+
+
+# ------------------------------------------------------------------------- solid axles
+def panhard_pose(d: dict, pad_mm: float, start: np.ndarray) -> np.ndarray:
+    """(roll about x, rad; lateral and vertical shift, mm) of the planar-guided axle with both
+    contact points ``pad_mm`` above their design height and the Panhard rod's length kept."""
+    r = d["wheel"]["loaded_radius_mm"]
+    patch = [point(d, "wheel_centre") - [0.0, 0.0, r]]
+    patch.append(patch[0] * [1.0, -1.0, 1.0])
+    chassis, axle_end = point(d, "panhard_chassis"), point(d, "panhard_axle")
+    length = np.linalg.norm(axle_end - chassis)
+
+    def residual(x):
+        R = Rotation.from_rotvec([x[0], 0.0, 0.0])
+        moved = [R.apply(p) + [0.0, x[1], x[2]] for p in (*patch, axle_end)]
+        return [moved[0][2] - patch[0][2] - pad_mm, moved[1][2] - patch[1][2] - pad_mm,
+                np.linalg.norm(moved[2] - chassis) - length]
+
+    fit = least_squares(residual, start, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    assert np.max(np.abs(fit.fun)) < 1e-9
+    return fit.x
+
+
+def test_panhard_roll_centre_where_the_rod_crosses_the_axle_centre_plane():
+    """Along parallel travel: the rod's line (chassis end fixed, axle end moved with the axle
+    solved here) crosses the plane midway between the contact points at the roll centre; at
+    design that is the vehicle centre plane, at the wheel centres' height (the rod is level
+    there: 347 mm above the ground)."""
+    d, sweep = kinematic_travel("solid_axle_panhard.yaml")
+    r = d["wheel"]["loaded_radius_mm"]
+    patch = point(d, "wheel_centre") - [0.0, 0.0, r]
+    chassis, axle_end = point(d, "panhard_chassis"), point(d, "panhard_axle")
+    pose = np.zeros(3)
+    for k in range(sweep.steps):
+        pose = panhard_pose(d, sweep.columns["pad_z_mm"][k], pose)
+        R = Rotation.from_rotvec([pose[0], 0.0, 0.0])
+        shift = np.array([0.0, pose[1], pose[2]])
+        ends = [chassis, R.apply(axle_end) + shift]
+        patches = [R.apply(p) + shift for p in (patch, patch * [1.0, -1.0, 1.0])]
+        mid_y = 0.5 * (patches[0][1] + patches[1][1])
+        t = (mid_y - ends[0][1]) / (ends[1][1] - ends[0][1])
+        crossing = ends[0] + t * (ends[1] - ends[0])
+        height = crossing[2] - 0.5 * (patches[0][2] + patches[1][2])
+        assert sweep.columns["roll_centre_height_mm"][k] == pytest.approx(height, abs=0.1)
+        assert sweep.columns["roll_centre_lateral_mm"][k] == pytest.approx(mid_y, abs=0.1)
+    at_design = np.flatnonzero((sweep.columns["pad_z_mm"] == 0.0)
+                               & (sweep.columns["branch"] == "stroke"))[0]
+    assert sweep.columns["roll_centre_height_mm"][at_design] == pytest.approx(r, abs=0.1)
+    assert np.ptp(sweep.columns["roll_centre_lateral_mm"]) > 1.0  # the rod's arc shifts it
+
+
+def test_watt_roll_centre_on_the_drawbar_to_pivot_line():
+    """At design the tube rolls about the line through the drawbar's ball joint and the
+    Watt's centre pivot (the two points of the tube held sideways); the roll centre is where
+    that line crosses the contact points' transverse plane."""
+    d, sweep = kinematic_travel("solid_axle_watt.yaml")
+    ball, pivot = point(d, "drawbar_front"), point(d, "watt_pivot")
+    patch = point(d, "wheel_centre") - [0.0, 0.0, d["wheel"]["loaded_radius_mm"]]
+    t = (patch[0] - ball[0]) / (pivot[0] - ball[0])
+    hand = ball[2] + t * (pivot[2] - ball[2]) - patch[2]
+    assert hand == pytest.approx(347.0 + 100.0 + 50.0 * 1905.0 / 2105.0)
+    k = np.flatnonzero((sweep.columns["pad_z_mm"] == 0.0)
+                       & (sweep.columns["branch"] == "stroke"))[0]
+    assert sweep.columns["roll_centre_height_mm"][k] == pytest.approx(hand, abs=0.1)
+    assert sweep.columns["roll_centre_lateral_mm"][k] == pytest.approx(0.0, abs=0.1)
+    # the Watt's linkage keeps the tube from shifting sideways in heave: 0.03 mm over +-60 mm
+    # (a Panhard rod of the same span, 1028 mm, would shift it 60^2 / 2056 = 1.75 mm)
+    assert np.max(np.abs(sweep.columns["wheel_centre_lateral_mm"])) < 0.1
+
+
+def test_a_shared_part_carries_both_wheels_and_items_on_both_sides():
+    d = config("solid_axle_panhard.yaml")
+    s = suspension(d, "panhard.yaml")
+    assert {w.part for w in s.wheels.values()} == {"axle"}
+    np.testing.assert_array_equal(s.wheels["right"].centre_mm, [0.0, -732.5, 0.0])
+    springs = {sp.name: sp for sp in s.springs}
+    assert set(springs) == {"coil", "coil_right"}
+    assert springs["coil_right"].parts == ("body", "axle")
+    np.testing.assert_array_equal(springs["coil_right"].seats_mm[0], [0.0, -514.2, 347.6])
+    assert {st.name for st in s.stops} == {"bump_stop", "bump_stop_right", "rebound_stop",
+                                           "rebound_stop_right"}
+    # kept once: the guide and the Panhard rod's bushings; mirrored: the bar halves' joints
+    assert [b.name for b in s.bushings] == ["panhard_chassis_bushing", "panhard_axle_bushing"]
+    assert sorted(j.name for j in s.joints) == ["arb_bearing", "arb_bearing_right",
+                                                "arb_slider", "arb_slider_right",
+                                                "axle_guide"]
+    assert s.axle.balance_springs == ("coil", "coil_right")
