@@ -26,6 +26,7 @@ from elastokin.report.chart_canvas import (
     STYLE,
     ChartCanvas,
     corner_counts,
+    floor_y_span,
     footer_text,
     legend_height,
     residual_rms,
@@ -335,6 +336,7 @@ def draw_axle_chart(canvas: ChartCanvas, data: AxleChartData, provenance: dict):
     curves = [_draw_panel(ax, panel) for ax, panel in zip(axes, data.panels)]
     for ax in axes:
         ax.set_xlabel(data.xlabel, fontsize=9)
+    floor_y_span(ax0)  # the panels share it
     _place_legends(axes, data, curves, 7 if pair else 8)
     ax0.set_ylabel(data.ylabel, fontsize=9)
     if pair:
