@@ -292,3 +292,34 @@ def test_compliance_is_reciprocal_and_the_force_based_roll_centre_kinematic(name
                        & (sweep.columns["branch"] == "stroke"))[0]
     assert force_based_roll_centre_mm(C, d) == pytest.approx(
         sweep.columns["roll_centre_height_mm"][k], abs=1.0)
+
+
+def test_live_axle_pinion_torque_in_anti_squat():
+    """A driven solid axle (vehicle.live_axle_ratio, ADAMS/Car's dependent suspension): the
+    pinion torque T = Rl |F_l + F_r| / ratio, reacted by the housing, adds -T/t and +T/t to
+    the wheel loads (ADAMS's SVCANA); ADAMS's formula evaluated here from the summary's 12x12
+    matrix (ISO, left wheel first), for the left wheel and the right, then averaged."""
+    from elastokin.config.variants import ModelVariant
+    from elastokin.studies.kc_job import load_cases
+
+    d = config("solid_axle_watt.yaml")
+    d["rig"] = rig(parallel_travel={"rebound_mm": -4, "bump_mm": 4, "step_mm": 2})
+    d["axle"]["vehicle"].update(drive="outboard", live_axle_ratio=4.0)
+    v = d["axle"]["vehicle"]
+    ax = load_cases(ModelVariant("m", suspension(d, "watt.yaml"))).summary()["axle"]
+    C = np.array(ax["compliance_matrix_12x12"]["values"])
+    rl, track = d["wheel"]["loaded_radius_mm"], 2.0 * point(d, "wheel_centre")[1]
+    f = v["drive_fraction"] / 2.0  # the rear axle's share of a unit traction force, per wheel
+    weight = v["cg_height_mm"] / (2.0 * v["wheelbase_mm"])
+    torque = rl * 2.0 * f / 4.0
+    loads = (weight - torque / track, weight + torque / track)
+    percents = []
+    for row in (2, 8):
+        zf = f * (C[row, 0] - rl * C[row, 4] + C[row, 6] - rl * C[row, 10])
+        zw = loads[0] * C[row, 2] + loads[1] * C[row, 8]
+        percents.append(-100.0 * zf / zw)
+    assert ax["percent_anti_squat"] == pytest.approx(np.mean(percents), rel=1e-12)
+    without = dict(d, axle=dict(d["axle"], vehicle={k: x for k, x in v.items()
+                                                     if k != "live_axle_ratio"}))
+    plain = load_cases(ModelVariant("m", suspension(without, "watt.yaml"))).summary()["axle"]
+    assert abs(plain["percent_anti_squat"] - ax["percent_anti_squat"]) > 0.1
