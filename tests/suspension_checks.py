@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 
@@ -13,3 +15,16 @@ def assert_same_bushings(expected, actual, deflections: np.ndarray) -> None:
         for law0, law1 in zip(b0.laws, b1.laws):
             np.testing.assert_allclose(law1(deflections), law0(deflections), rtol=1e-12,
                                        atol=1e-9)
+
+
+def scrambled_geometry(data: dict) -> dict:
+    """A copy of a config mapping with every hardpoint moved (y = 0 kept on the centre plane)
+    and every bushing rate tripled: a template whose exported values must all come back from
+    the ADAMS files."""
+    t = copy.deepcopy(data)
+    t["hardpoints"] = {k: [v[0] + 5.0, v[1] if v[1] == 0.0 else v[1] - 5.0, v[2] + 5.0]
+                       for k, v in t["hardpoints"].items()}
+    for c in t["connections"].values():
+        if c["type"] == "bushing":
+            c["stiffness"] = {d: 3.0 * v for d, v in c["stiffness"].items()}
+    return t

@@ -4,7 +4,6 @@ the hardpoints to the bit, the laws to 1e-12 and the axle section unchanged. Ite
 on an axle (a Panhard rod, a Watt's linkage, a planar guide) are ADAMS/Car's ``single`` rows
 and blocks; the items on both sides (a solid axle's springs) ``left/right`` ones."""
 
-import copy
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +17,7 @@ from elastokin.formats.adams_import import import_adams_axle, subsystem_files
 from elastokin.formats.adams_mapping import read_mapping
 from elastokin.mbs.design import design_state
 
-from .suspension_checks import assert_same_bushings
+from .suspension_checks import assert_same_bushings, scrambled_geometry
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 #: the kind's config and the ADAMS/Car template its subsystem names (docs/adams.md, "Kinds")
@@ -31,16 +30,6 @@ SINGLE = {"solid_axle_panhard.yaml": {"axle_centre", "panhard_chassis", "panhard
                                       "panhard_chassis_bushing", "panhard_axle_bushing"},
           "solid_axle_watt.yaml": {"drawbar_front", "watt_upper_chassis", "watt_upper_centre",
                                    "watt_lower_chassis", "watt_lower_centre", "watt_pivot"}}
-
-
-def scrambled(data: dict) -> dict:
-    t = copy.deepcopy(data)
-    t["hardpoints"] = {k: [v[0] + 5.0, v[1] if v[1] == 0.0 else v[1] - 5.0, v[2] + 5.0]
-                       for k, v in t["hardpoints"].items()}
-    for c in t["connections"].values():
-        if c["type"] == "bushing":
-            c["stiffness"] = {d: 3.0 * v for d, v in c["stiffness"].items()}
-    return t
 
 
 @pytest.mark.parametrize("name", KINDS)
@@ -64,7 +53,7 @@ def test_round_trip(tmp_path, name):
     for n, sides in bushings.items():
         assert set(sides) == ({"single"} if n in single else {"left", "right"}), n
     assert set(read_spring_assemblies(sub)["coil"]) == {"left", "right"}
-    cfg, warnings, _ = import_adams_axle(scrambled(data), subsystem_files(mapping, db),
+    cfg, warnings, _ = import_adams_axle(scrambled_geometry(data), subsystem_files(mapping, db),
                                          db / "mapping.yaml")
     assert warnings == []
     assert cfg["hardpoints"] == data["hardpoints"]  # ISO -> ADAMS -> ISO, to the bit

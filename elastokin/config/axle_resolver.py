@@ -18,6 +18,7 @@ from elastokin.config.axle import (
     check_names,
     check_shared,
     declared_once,
+    kept_once,
     mirrored_bushing,
     mirrored_hardpoints,
     other_side,
@@ -54,8 +55,7 @@ class MirroredResolver(Resolver):
         return name + self.suffix
 
     def keep(self, name: str, parts: tuple[str, str]) -> bool:
-        return name in self.spec.axle.both_sides or \
-            not declared_once(parts, self.shared, self.spec.ground)
+        return not kept_once(name, parts, self.spec.axle, self.spec.ground)
 
     def part(self, name: str, key: str) -> str:
         base = super().part(name, key)
