@@ -363,8 +363,8 @@ def axle_chart_caption(spec: AxleChartSpec, with_test: bool, with_ideal: bool) -
         text += ", the least-squares slope of this curve"
     if spec.name == "roll_centre_height_vs_travel":
         text += ("; the curve is the kinematic roll centre (instant centres of both wheels in "
-                 "the front view), the force-based one (12x12 compliance) is a figure of the "
-                 "static state only")
+                 "the front view; on a solid axle, of the axle's roll motion), the force-based "
+                 "one (12x12 compliance) is a figure of the static state only")
     if spec.ideal_ackermann:
         text += (f"; dash-dot: {IDEAL_LABEL}, the steer angle that would put "
                  "both spindle lines through one point of the rear axle's line (wheelbase "
