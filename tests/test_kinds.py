@@ -214,6 +214,16 @@ def test_a_shared_part_carries_both_wheels_and_items_on_both_sides():
                                                 "arb_slider", "arb_slider_right",
                                                 "axle_guide"]
     assert s.axle.balance_springs == ("coil", "coil_right")
+    # the wheels move together (summary.json axle.dependent, the report's make-up); not on
+    # an independent axle, whose wheels the held steering rack and the anti-roll bar join
+    from elastokin.report.files import axle_data
+    from elastokin.report.html_axle import make_up_rows
+
+    assert axle_data(s)["dependent"]
+    assert ["wheel motion", "independent"] not in make_up_rows(axle_data(s))
+    dw = suspension(config("double_wishbone_axle.yaml"), "dw.yaml")
+    assert not axle_data(dw)["dependent"]
+    assert ["wheel motion", "independent"] in make_up_rows(axle_data(dw))
 
 
 # ------------------------------------------------------------------------- compliance
