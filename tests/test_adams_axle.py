@@ -42,7 +42,8 @@ from elastokin.rig.characteristics import measured
 from elastokin.rig.drives import roll_drive, steering_drive
 from elastokin.rig.load_cases import run_drive_sides
 
-from .suspension_checks import assert_same_bushings, scrambled_geometry
+from . import suspension_checks
+from .suspension_checks import assert_same_bushings
 
 ROOT = Path(__file__).resolve().parents[1]
 AXLE = ROOT / "configs" / "double_wishbone_axle.yaml"
@@ -76,7 +77,7 @@ def subs(db: Path) -> dict[str, Path]:
 def scrambled(data: dict) -> dict:
     """The axle config with its geometry, bushings, bar rate, rack ratio and travel limit all
     changed: a template whose every exported value must come back from the ADAMS files."""
-    t = scrambled_geometry(data)
+    t = suspension_checks.scrambled(data)
     t["axle"]["anti_roll_bar"]["rate_Nmm_per_deg"] = 20000.0
     t["axle"]["steering"]["ratio_mm_per_rev"] = 35.0
     t["axle"]["steering"]["limit_mm"] = 80.0

@@ -17,7 +17,7 @@ from elastokin.formats.adams_import import import_adams_axle, subsystem_files
 from elastokin.formats.adams_mapping import read_mapping
 from elastokin.mbs.design import design_state
 
-from .suspension_checks import assert_same_bushings, scrambled_geometry
+from .suspension_checks import assert_same_bushings, scrambled
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 #: the kind's config and the ADAMS/Car template its subsystem names (docs/adams.md, "Kinds")
@@ -53,7 +53,7 @@ def test_round_trip(tmp_path, name):
     for n, sides in bushings.items():
         assert set(sides) == ({"single"} if n in single else {"left", "right"}), n
     assert set(read_spring_assemblies(sub)["coil"]) == {"left", "right"}
-    cfg, warnings, _ = import_adams_axle(scrambled_geometry(data), subsystem_files(mapping, db),
+    cfg, warnings, _ = import_adams_axle(scrambled(data), subsystem_files(mapping, db),
                                          db / "mapping.yaml")
     assert warnings == []
     assert cfg["hardpoints"] == data["hardpoints"]  # ISO -> ADAMS -> ISO, to the bit

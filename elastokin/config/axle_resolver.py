@@ -16,7 +16,10 @@ from elastokin.config.axle import (
     check_both_sides,
     check_mirror_plane,
     check_names,
+    check_other_side_plane,
     check_shared,
+    check_track,
+    curve_problem,
     declared_once,
     kept_once,
     mirrored_bushing,
@@ -96,8 +99,10 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
     check_both_sides(corner, spec, resolver.fail)
+    check_other_side_plane(corner, spec, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
+    check_track(corner, other, resolver.fail)
     suffix = mirrored.suffix
     joints = corner.joints + other.joints
     steering = None
@@ -173,7 +178,8 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
         try:
             law = law_from_spec(a.curve)
         except ValueError as exc:
-            raise resolver.fail(key + ".curve", str(exc)) from None
+            raise resolver.fail(key + ".curve", curve_problem(
+                str(exc), "deflection (deg of twist)", "load (N*mm)")) from None
     return AntiRollBar((part, part + suffix), pos, frame_from_z(axis), law)
 
 

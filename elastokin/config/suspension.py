@@ -304,6 +304,14 @@ class Suspension:
         """The sides with a wheel, the config's first."""
         return tuple(self.wheels)
 
+    def rig_key(self, key: str) -> str:
+        """Where the rig's ``key`` (e.g. ``steering.amplitude_deg``) is set, as a message
+        begins: ``RIG (rig file): key 'KEY'`` when a rig file replaced the config's rig
+        section, else ``CONFIG: key 'rig.KEY'``."""
+        if self.rig_source:
+            return f"{self.rig_source} (rig file): key '{key}'"
+        return f"{self.source}: key 'rig.{key}'"
+
     def on_side(self, side: str) -> Suspension:
         """This suspension as seen from the wheel on ``side``: ``side`` and ``wheel`` are that
         wheel's (everything per wheel - toe, camber, the rig's pad - then reads it)."""

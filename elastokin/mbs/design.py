@@ -14,8 +14,9 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ModelError, SolverError
+from elastokin.mbs.assembly import system_jacobian
 from elastokin.mbs.bushings import BALANCING_ROTATION
-from elastokin.mbs.exudyn_api import exu, exudyn_call
+from elastokin.mbs.exudyn_api import exudyn_call
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.solve import simulation_settings, solve_path
@@ -228,13 +229,7 @@ def redundant_joints(model: SuspensionModel, supports: list[str]) -> list[str]:
 
 
 def _constraint_jacobian(model: SuspensionModel) -> np.ndarray:
-    mbs, src = model.mbs, model.suspension.source
-    mbs.Assemble()
-    solver = exu.MainSolverStatic()
-    ss = simulation_settings(model, 1)
-    exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
-    exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{src}: assembly check")
-    return np.asarray(solver.GetSystemJacobian())
+    return system_jacobian(model, simulation_settings(model, 1), "assembly check")
 
 
 def check_assembly(suspension: Suspension) -> None:

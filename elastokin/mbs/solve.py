@@ -16,6 +16,7 @@ from exudyn.advancedUtilities import CreateSymbolicUserFunction
 
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs import friction
+from elastokin.mbs.assembly import free_parts, free_parts_message
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.model import ABSOLUTE_TOLERANCE, DEG, SuspensionModel
 from elastokin.mbs.user_functions import make_path_function
@@ -176,6 +177,9 @@ def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
         finally:
             mbs.systemData.SetODE2Coordinates(q0, initial)
     if not ok or len(rows) < n:
+        free = free_parts(model, simulation_settings(model, 1))  # a singular Jacobian?
+        if free:
+            raise ModelError(free_parts_message(model, free))
         sv = model.suspension.solver
         raise SolverError(
             f"{label}: static solve did not converge after step {len(rows)} of {n} "
