@@ -78,19 +78,22 @@ def roll_motion(ground: str, elements: list[SkeletonElement],
     rank = np.sum(sv > RANK_TOLERANCE * sv[:, :1], axis=1)
     inv = np.where(np.arange(sv.shape[1]) < rank[:, None], 1.0 / np.where(sv > 0, sv, 1.0),
                    0.0)
-    x = np.einsum("sji,sj,skj,k->si", Vt[:, :sv.shape[1], :], inv, U[:, :, :sv.shape[1]], b)
+    r = sv.shape[1]
+    x = np.einsum("sji,sj->si", Vt[:, :r, :], inv * np.einsum("skj,k->sj", U[:, :, :r], b))
     ok = np.max(np.abs(M @ x[:, :, None] - b[None, :, None])[..., 0], axis=1) \
         < CONSISTENCY_TOLERANCE
     reason = None if np.all(ok) else "the joints do not let the axle roll (the contact " \
         "points cannot move in opposite directions)"
     wheel_cols = np.concatenate([np.arange(col[part], col[part] + 6)
                                  for part, _ in wheels.values()])
-    for s in range(n):
-        null = Vt[s, rank[s]:, :]
-        if null.size and np.max(np.abs(null[:, wheel_cols])) > ONE_MOTION_TOLERANCE:
-            ok[s] = False
-            reason = reason or ("the joints leave a wheel part more than the two motions "
-                                "the contact points fix (a joint missing?)")
+    # the null space: the rows of Vt from the rank on; a null motion that moves a wheel part
+    null = np.arange(Vt.shape[1])[None, :] >= rank[:, None]
+    free = np.any(null & (np.max(np.abs(Vt[:, :, wheel_cols]), axis=2) > ONE_MOTION_TOLERANCE),
+                  axis=1)
+    if np.any(free):
+        ok &= ~free
+        reason = reason or ("the joints leave a wheel part more than the two motions the "
+                            "contact points fix (a joint missing?)")
     out = {}
     for side, (part, point) in wheels.items():
         k = col[part]

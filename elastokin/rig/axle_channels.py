@@ -8,6 +8,8 @@ Units mm, N, N*mm, deg; names and signs in :mod:`elastokin.rig.channels`.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from elastokin.config.suspension import Suspension
@@ -133,4 +135,13 @@ def roll_contact_velocities(states: list[StepState], suspension: Suspension
                         + position[w.part])
     motion = roll_motion(s.ground, elements, rotation, position, dict(first.reference_mm),
                          wheels, s.up)
+    if motion.reason is not None:
+        bad = int(np.isnan(motion.contact_velocity["left"]).any(axis=1).sum())
+        warnings.warn(RollCentreWarning(
+            f"{s.source}: kinematic roll centre undefined at {bad} of {n} steps of parallel "
+            f"travel: {motion.reason}"), stacklevel=2)
     return motion.contact_velocity
+
+
+class RollCentreWarning(UserWarning):
+    """The kinematic roll centre of a dependent axle is undefined at some steps (NaN)."""
