@@ -32,7 +32,8 @@ from elastokin.rig.load_cases import drives, run_drive, run_drive_sides, static_
 from .conftest import CASE
 
 DW = Path(__file__).parent / "data" / "double_wishbone.yaml"
-CONFIGS = Path(__file__).parents[1] / "configs"
+CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+TWIST_BEAM = CONFIGS / "twist_beam_axle.yaml"
 #: the shipped axle kinds of issue 25 (tests/test_kinds.py checks their results)
 KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
          "semi_trailing_arm": CONFIGS / "semi_trailing_arm_axle.yaml",
@@ -146,6 +147,7 @@ VARIANTS = {
     "friction": _friction,
     "imported_from_adams": _imported_from_adams,
     "double_wishbone": lambda: ModelVariant("double_wishbone", nominal(DW)),
+    "twist_beam": lambda: ModelVariant("twist_beam", nominal(TWIST_BEAM)),
     **{name: (lambda name=name, path=path: ModelVariant(name, nominal(path)))
        for name, path in KINDS.items()},
 }

@@ -97,6 +97,8 @@ def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
         out += [(f"stops.{st.name}", p) for q, p in zip(st.parts, st.points_mm) if q == part]
     if s.wheel.part == part:
         out.append(("wheel.centre", s.wheel.centre_mm))
+    for b in s.beams:
+        out += [(f"parts.{part}.beam.nodes", p) for p in b.nodes_mm] if b.part == part else []
     return out
 
 

@@ -27,6 +27,7 @@ from elastokin.config.axle import (
     other_side,
     steering_ratio,
 )
+from elastokin.config.beams import check_beam_attachments, mirrored_beam, shared_beam
 from elastokin.config.resolver import Resolver
 from elastokin.config.schema import RackSpec
 from elastokin.config.schema_base import AxisBetween
@@ -88,7 +89,9 @@ def resolve_suspension(resolver: Resolver, sha256: str, raw, config_sha256: str 
     """The suspension ``resolver``'s config describes: its corner, or with an ``axle:``
     section both corners (:func:`expand_axle`). Arguments as :meth:`Resolver.resolve`."""
     corner = resolver.resolve(sha256, raw, config_sha256, rig_sha256)
-    return corner if resolver.spec.axle is None else expand_axle(resolver, corner)
+    s = corner if resolver.spec.axle is None else expand_axle(resolver, corner)
+    check_beam_attachments(s, resolver.fail)
+    return s
 
 
 def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
@@ -120,7 +123,14 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
                     if d.balance_spring and n in springs)
     axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
                 spec.vehicle, balance)
-    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints,
+    beams = []
+    for b in corner.beams:
+        if b.part in spec.shared:
+            beams.append(shared_beam(b, mirrored.hardpoints, suffix, corner.outboard,
+                                     resolver.fail))
+        else:
+            beams += [b, mirrored_beam(b, mirrored.hardpoints, suffix)]
+    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints, beams=tuple(beams),
                    links=corner.links + other.links, bushings=corner.bushings + other.bushings,
                    springs=corner.springs + other.springs, stops=corner.stops + other.stops,
                    wheels={corner.side: corner.wheel, mirrored.other: other.wheel}, axle=axle)

@@ -19,6 +19,9 @@ MAX_CURVE_POINTS = 10_000
 MAX_COORDINATE_MM = 1.0e6
 #: the most solver steps per recorded rig step of the synthetic real suspension
 MAX_SUBSTEPS = 100
+#: the most beam elements on one segment of a beam part, and the most nodes it names
+MAX_ELEMENTS_PER_SEGMENT = 200
+MAX_BEAM_NODES = 100
 #: a wheel spin axis at least this far from vertical, and a bushing's ``radial`` at least this
 #: far from its ``axis`` (deg): closer, toe and camber or the bushing frame are undefined
 MIN_AXIS_ANGLE_DEG = 1.0

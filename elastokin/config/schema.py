@@ -23,6 +23,7 @@ from elastokin.config.schema_base import (
     StrictModel,
     Vector3,
 )
+from elastokin.config.schema_beam import BeamSpec
 from elastokin.config.schema_rig import RigSpec
 
 
@@ -53,6 +54,7 @@ class PartSpec(StrictModel):
     mass_kg: float | None = Field(default=None, gt=0)
     centre_of_mass: PointSpec | None = None
     description: str = ""
+    beam: BeamSpec | None = None  # a flexible part made of beam elements (rigid without)
 
 
 class WheelSpec(StrictModel):

@@ -278,6 +278,7 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
              "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
              "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
              "$ design position, bushing frame, on the I part; orientations are the template's.",
+             *(beam_lines(s) if spec.major_role == "suspension" else []),
              rule("MDI_HEADER"), "[MDI_HEADER]", key_line("FILE_TYPE", "sub", 12),
              key_line("FILE_VERSION", 7.0, 12), key_line("FILE_FORMAT", "ASCII", 12),
              rule("SUBSYSTEM_HEADER"), "[SUBSYSTEM_HEADER]",
@@ -300,3 +301,21 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
         lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", sp)
     lines += parameter_lines(parameters or [])
     return "\n".join(lines) + "\n"
+
+
+def beam_lines(s: Suspension) -> list[str]:
+    """Comment lines giving each flexible beam part, which the file does not carry (ADAMS/Car
+    takes a flexible part as a flexible body or its template's own beams): its nodes (the
+    hardpoints above) and section, to rebuild it."""
+    out = []
+    for b in s.beams:
+        sec = b.section
+        out += [f"$ NOT EXPORTED: elastokin flexible beam part '{b.part}' (beam elements), nodes "
+                f"{', '.join(b.node_names)} (hardpoints above), {b.elements_per_segment} "
+                "elements per segment;",
+                f"$   section: EA {sec.EA_N:.6g} N, EI_y {sec.EI_y_Nmm2:.6g} N*mm^2, EI_z "
+                f"{sec.EI_z_Nmm2:.6g} N*mm^2, GJ {sec.GJ_Nmm2:.6g} N*mm^2, GA_y {sec.GA_y_N:.6g} "
+                f"N, GA_z {sec.GA_z_N:.6g} N;",
+                "$   shear centre from the node line (config frame, mm, per segment): "
+                + "; ".join(" ".join(number(v) for v in e) for e in b.shear_centre_mm)]
+    return out

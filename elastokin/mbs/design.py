@@ -264,10 +264,16 @@ def _check_wheel_located(model: SuspensionModel, supports: list[str]) -> None:
     finally:
         _activate(model, objs, False)
     n2 = mbs.systemData.ODE2Size()
-    cq = jac[n2:, :n2]
+    cq = np.vstack([jac[n2:, :n2], model.rigid_beam_rows()])  # beams held rigid
     _, sv, vt = np.linalg.svd(cq)
     rank = int(np.sum(sv > 1e-9 * sv[0]))
     null = vt[rank:].T  # free motions of the joints' skeleton (incl. idle spins)
+    for part, beam in model.beams.items():
+        if null.size and np.max(np.linalg.norm(null[beam.coordinates()], axis=0)) > 1e-6:
+            raise ModelError(
+                f"{src}: the beam part '{part}' can move without deforming (with bushings "
+                "replaced by their ideal joints and the contact patches held): attach it at "
+                "more of its nodes or with joints that hold its rotations")
     for wheel in model.wheel_parts.values():
         i0 = mbs.GetNodeODE2Index(model.node[wheel])
         if not (null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6):

@@ -42,7 +42,8 @@ def axle_characteristics(sweeps: dict[str, list[Sweep]], summaries: dict[str, di
     first) or None."""
     s = suspension
     out: dict = {c: None for c in ("roll_centre_height_mm", "roll_centre_lateral_mm")}
-    travel = find_sweep(sweeps[s.side], "parallel_travel")
+    travel = find_sweep(sweeps[s.side], "opposite_travel" if s.shared_beams
+                        else "parallel_travel")  # in roll on a twist beam
     if travel is not None and "roll_centre_height_mm" in travel.columns:
         out["roll_centre_height_mm"] = static_row_value(travel, "roll_centre_height_mm")
         out["roll_centre_lateral_mm"] = static_row_value(travel, "roll_centre_lateral_mm")
