@@ -51,6 +51,7 @@ from elastokin.mbs import friction
 from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, add_stop
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
+from elastokin.mbs.loads import LoadRecorder
 from elastokin.physics.states import PartPoses
 
 __all__ = ["DEG", "EXUDYN_VERSION", "ModelOptions", "SuspensionModel"]
@@ -73,12 +74,20 @@ class ModelOptions:
         :class:`~elastokin.physics.laws.ProgressiveLaw` family on the config's laws) can be
         changed after building, with :meth:`SuspensionModel.set_bushing_laws` (the stiffness
         fit and its sensitivities, :mod:`elastokin.mbs.sensitivity`).
+    record_loads: record the load of every element at every step (``ModelState.loads``,
+        :mod:`elastokin.mbs.loads`); needs ``part_poses``.
     """
 
     stiffness_scale: float = 1.0
     user_functions: str = "symbolic"
     part_poses: bool = True
     parametric_bushings: tuple[str, ...] = ()
+    record_loads: bool = True
+
+    @property
+    def loads(self) -> bool:
+        """Whether loads are recorded (:attr:`record_loads` with :attr:`part_poses`)."""
+        return self.record_loads and self.part_poses
 
     def __post_init__(self):
         if self.user_functions not in ("symbolic", "python"):
@@ -137,6 +146,8 @@ class SuspensionModel:
         self.sensors: dict[str, int] = {}
         self.point_sensors: dict[str, tuple[str, np.ndarray]] = {}  # part, local position
         self._build()
+        #: records every element's load (ModelOptions.record_loads), sensors added per solve
+        self.load_recorder = LoadRecorder(self) if options.loads else None
 
     # ------------------------------------------------------------------ building
     @property
@@ -247,6 +258,8 @@ class SuspensionModel:
             referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
             nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
         self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
+        if self.options.loads:  # the rig's loads on the parts are reported where they act
+            self._add_pose_sensors(name, self.rig_bodies[name])
         return self.add_support(name, name, ref, held, lock=np.zeros(6))
 
     def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
@@ -313,22 +326,30 @@ class SuspensionModel:
         recorded = self.body if self.options.part_poses else {
             part: self.body[part] for part in self.wheel_parts.values()}
         for name, number in recorded.items():
-            for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
-                self.sensors[f"part:{name}:{key}"] = mbs.AddSensor(SensorBody(
-                    bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
-                    storeInternal=True, writeToFile=False))
+            self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+
+    def _add_pose_sensors(self, name: str, number: int) -> None:
+        """Record a body's rotation matrix and displacement at every step
+        (``part:<name>:R``, ``part:<name>:disp``)."""
+        ovt = exu.OutputVariableType
+        for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
+            self.sensors[f"part:{name}:{key}"] = self.mbs.AddSensor(SensorBody(
+                bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
+                storeInternal=True, writeToFile=False))
 
     # ------------------------------------------------------------------ attachments
     def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
-                    frame=None, base: str | None = None, lock=None) -> str:
+                    frame=None, base: str | None = None, lock=None,
+                    item: tuple[str, str] | None = None) -> str:
         """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
         against ``base``, another part or a rig body) in the ``constrained`` directions (6
         flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
         frame; default the config frame), following an offset path given when solving;
         inactive in a solve that gives it no path, unless ``lock`` (6 offsets) makes it one of
         :attr:`locks`: active from the start, at ``lock`` unless a path is given. Its reaction
-        is recorded. Returns ``name``."""
+        is recorded. ``item``: (name, kind) of the reported load it belongs to
+        (:mod:`elastokin.mbs.loads`; default the support's own name). Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         point = np.asarray(point_mm, float)
@@ -344,7 +365,8 @@ class SuspensionModel:
             activeConnector=lock is not None, name=name))
         if lock is not None:
             self.locks[name] = np.asarray(lock, float)
-        self.supports[name] = {"object": obj, "part": part, "marker": m_part}
+        self.supports[name] = {"object": obj, "part": part, "marker": m_part,
+                               **_item_keys(item)}
         self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
             objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
             storeInternal=True, writeToFile=False))
@@ -352,20 +374,21 @@ class SuspensionModel:
         return name
 
     def add_load(self, name: str, part: str, point_mm, kind: str = "force",
-                 marker_of: str | None = None) -> str:
+                 marker_of: str | None = None, item: tuple[str, str] | None = None) -> str:
         """A force (N) or torque (N*mm) on ``part`` at ``point_mm`` (config frame, design
         position; ``kind`` "force" or "torque"), following a path given when solving (zero
         without one). ``marker_of``: apply it at the marker of that support or load
-        instead of a new one. Returns ``name``."""
+        instead of a new one. ``item``: as :meth:`add_support`'s. Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         if marker_of is not None:
             marker = {**self.supports, **self.loads}[marker_of]["marker"]
         else:
             marker = self.rigid_marker(part, np.asarray(point_mm, float), np.eye(3))
-        item = LoadForceVector if kind == "force" else LoadTorqueVector
-        load = self.mbs.AddLoad(item(markerNumber=marker, loadVector=[0, 0, 0]))
-        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
+        kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
+        load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
+        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind,
+                            **_item_keys(item)}
         return name
 
     def add_point_sensor(self, name: str, part: str, point_mm) -> str:
@@ -468,3 +491,8 @@ class SuspensionModel:
             "kinematic": self.suspension.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
         }
+
+
+def _item_keys(item: tuple[str, str] | None) -> dict[str, str]:
+    """An attachment's reported item and its kind (:mod:`elastokin.mbs.loads`), if given."""
+    return {} if item is None else {"item": item[0], "item_kind": item[1]}

@@ -177,6 +177,22 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
+#: components of a load: force x y z (N), moment x y z (N*mm), in a frame of
+#: :data:`LOAD_FRAMES`
+LOAD_COMPONENTS = ("fx", "fy", "fz", "mx", "my", "mz")
+#: the frames a load is reported in (loads.csv, docs/characteristics.md "Loads")
+LOAD_FRAMES = {
+    "body": "the ground part's frame (the config frame: the body, subframe or rig frame)",
+    "local": "the element's own frame, fixed to its first part: a bushing's (z axial, x main "
+             "radial), a joint's (z its axis; a ball joint: the part's own axes), the steering "
+             "gear's (z along the rack); links, springs, stops: z from the point on the first "
+             "part to the point on the second (fz > 0 in tension)",
+}
+LOAD_SIGN = ("force or moment the element applies to its first part (a connection's "
+             "parts[0]; a contact patch: the wheel's part), the moment about the element's "
+             "point on that part; the second part receives the opposite force")
+
+_LOAD = re.compile(r"(.+)_([fm])([xyz])_(body|local)_(N|Nmm)")
 _SPRING = re.compile(r"spring_(.+)_force_N")
 _STOP = re.compile(r"stop_(.+)_force_N")
 _BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
@@ -197,6 +213,14 @@ def channel(name: str) -> Channel | None:
         return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
                        "(bump) or together (rebound); 0 out of contact",
                        f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
+    m = _LOAD.fullmatch(name)
+    if m:
+        force = m.group(2) == "f"
+        unit = "N" if force else "N*mm"
+        what = "force" if force else "moment"
+        return Channel(name, unit, f"{LOAD_SIGN}; {m.group(4)}: {LOAD_FRAMES[m.group(4)]}",
+                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)",
+                       adams=f"{m.group(1)}_{what}_{m.group(3)}")
     m = _BUSHING.fullmatch(name)
     if m:
         kind = "rot" if m.group(2) else "disp"
@@ -213,6 +237,12 @@ def bushing_columns(bushing: str) -> list[str]:
     units = ("mm", "mm", "mm", "deg", "deg", "deg")
     return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
                                                         units)]
+
+
+def load_column(item: str, component: str, frame: str) -> str:
+    """The loads.csv column of an element's load component (:data:`LOAD_COMPONENTS`) in a
+    frame (:data:`LOAD_FRAMES`), e.g. ``lca_bushing_fx_body_N``."""
+    return f"{item}_{component}_{frame}_{'N' if component[0] == 'f' else 'Nmm'}"
 
 
 def spring_column(spring: str) -> str:
@@ -462,5 +492,7 @@ def sign_conventions() -> dict[str, str]:
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
+    out["<element>_{fx,fy,fz}_{body,local}_N, _{mx,my,mz}_..._Nmm (loads.csv)"] = (
+        f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out
