@@ -13,6 +13,7 @@ import numpy as np
 
 from elastokin.config.axle import (
     MIRROR,
+    check_axle_mass,
     check_mirror_plane,
     check_names,
     check_shared,
@@ -93,6 +94,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_shared(corner, spec, resolver.fail)
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
+    check_axle_mass(spec, resolver.spec.design.wheel_load_N, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
     suffix = mirrored.suffix

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
 from elastokin.config.schema_base import AxisSpec, CurveSpec, PointSpec, StrictModel, Vector3
@@ -98,9 +98,34 @@ class AntiRollBarSpec(StrictModel):
         return self
 
 
+#: plausible mass an axle carries (kg): a light car's rear axle to a heavy truck's
+AXLE_MASS_RANGE_KG = (20.0, 30000.0)
+
+
+class AxleMassesSpec(StrictModel):
+    """The masses the front and the rear axle carry at rest (kg; their sum is the vehicle's
+    mass in the static-load analysis), as the suspensions carry them: without the unsprung
+    masses when the design wheel load leaves them out."""
+
+    front: float
+    rear: float
+
+    @field_validator("front", "rear")
+    @classmethod
+    def _plausible(cls, v: float) -> float:
+        lo, hi = AXLE_MASS_RANGE_KG
+        if not lo <= v <= hi:
+            hint = (f"; in N? {v / 9.80665:.0f} kg" if lo <= v / 9.80665 <= hi else
+                    "; in tonnes? give kg" if v < lo else "")
+            raise ValueError(f"{v:g} kg is not a plausible mass for one axle ({lo:g} to "
+                             f"{hi:g} kg){hint}")
+        return v
+
+
 class VehicleSpec(StrictModel):
     """Vehicle data for the axle's characteristics (anti-dive, anti-lift, anti-squat,
-    Ackermann, turn diameter)."""
+    Ackermann, turn diameter) and the static-load analysis from vehicle accelerations
+    (``axle_mass_kg``, ``lateral_transfer_fraction``: the rig's ``vehicle_loads``)."""
 
     position: Literal["front", "rear"] = "front"
     wheelbase_mm: float = Field(gt=0)
@@ -112,6 +137,11 @@ class VehicleSpec(StrictModel):
     #: (the force acts at the contact patch, ADAMS/Car's convention), ``inboard`` by the body
     #: (inboard brakes, a chassis-mounted final drive: at the wheel centre)
     drive: Literal["outboard", "inboard"] = "outboard"
+    #: the masses the axles carry at rest (kg): the static-load analysis
+    axle_mass_kg: AxleMassesSpec | None = None
+    #: this axle's share of the lateral load transfer (roll stiffness distribution), 0 ... 1
+    #: (None: its share of the mass)
+    lateral_transfer_fraction: float | None = Field(default=None, ge=0, le=1)
 
 
 class AxleSpec(StrictModel):

@@ -248,7 +248,7 @@ class LoadRecorder:
         for k, frame in frames.items():
             out[:, k, FORCE_LOCAL] = np.einsum("nji,nj->ni", frame, out[:, k, FORCE])
             out[:, k, MOMENT_LOCAL] = np.einsum("nji,nj->ni", frame, out[:, k, MOMENT])
-        return LoadTable(self.reported_items(), out)
+        return LoadTable(self.reported_items(), out, self.model.suspension.ground)
 
     def _active(self) -> dict[int, bool]:
         mbs = self.model.mbs

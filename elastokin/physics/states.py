@@ -56,19 +56,20 @@ class LoadItem:
 class LoadTable:
     """The loads of ``items`` at one or more steps: ``values`` (..., items, 7, 3), the
     quantities :data:`elastokin.physics.loads.QUANTITIES` of each item (config frame; N, N*mm,
-    mm)."""
+    mm); ``ground``: the model's ground part."""
 
     items: tuple[LoadItem, ...]
     values: np.ndarray
+    ground: str = ""  # the model's ground part (body, subframe, rig frame)
 
     def step(self, i: int) -> LoadTable:
         """The table of step ``i`` (values (items, 7, 3))."""
-        return LoadTable(self.items, self.values[i])
+        return LoadTable(self.items, self.values[i], self.ground)
 
     @classmethod
     def stack(cls, tables: list[LoadTable]) -> LoadTable:
         """The steps of one solve (the same items) as one table (values (n, items, 7, 3))."""
-        return cls(tables[0].items, np.stack([t.values for t in tables]))
+        return cls(tables[0].items, np.stack([t.values for t in tables]), tables[0].ground)
 
     def names(self) -> list[str]:
         return [item.name for item in self.items]

@@ -21,7 +21,9 @@ from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
 from elastokin.report.text import identification_table
 from elastokin.rig.axle_channels import design_track_mm
-from elastokin.rig.channels import sign_conventions
+from elastokin.rig.channels import load_case_input, sign_conventions
+from elastokin.rig.drives import vehicle_load_table
+from elastokin.rig.loads import load_columns
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
 
@@ -67,6 +69,45 @@ def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict, side: str = "lef
             cols += [_formatted(sw.columns[c]) if c in sw.columns else [""] * n
                      for c in names]
             writer.writerows(zip(*cols))
+
+
+def write_loads_csv(path: Path, models: dict, header: dict) -> bool:
+    """``loads.csv``: one row per model, load case and step (numbered as in kc.csv), the load
+    case's input, then every element's load (:func:`elastokin.rig.loads.load_columns`: force
+    and moment on its first part in the body frame and its own, N and N*mm); a ``#`` header
+    with provenance and conventions. ``models``: label -> ModelResult. False (nothing written)
+    when no model recorded loads."""
+    blocks = [(label, sw) for label, m in models.items() for sw in m.sweeps
+              if sw.loads is not None]
+    if not blocks:
+        return False
+    inputs = list(dict.fromkeys(load_case_input(sw.load_case) for _, sw in blocks))
+    columns = [load_columns(sw.loads) for _, sw in blocks]
+    names = list(dict.fromkeys(c for cols in columns for c in cols))
+    where = {c: i for i, c in enumerate([*inputs, *names])}
+    with open(path, "w", newline="") as fh:
+        for key in ("elastokin_version", "exudyn_version", "config_file", "config_sha256"):
+            fh.write(f"# {key}: {header[key]}\n")
+        if header.get("rig_file"):
+            fh.write(f"# rig_file: {header['rig_file']}\n# rig_sha256: {header['rig_sha256']}\n")
+        fh.write("# loads of every element: <element>_<component>_<frame>_<unit>, the force "
+                 "(N) and moment (N*mm) it applies to its first part (a connection's parts[0]),"
+                 " the moment about its point; frame body: the ground part's (config frame), "
+                 "local: the element's own (docs/characteristics.md, Loads); empty = not "
+                 "applicable\n")
+        fh.write(",".join(["model", "load_case", "step", "branch", *where]) + "\n")
+        for (label, sw), cols in zip(blocks, columns):
+            values = np.full((sw.steps, len(where)), np.nan)
+            name = load_case_input(sw.load_case)
+            if name in sw.columns:
+                values[:, where[name]] = sw.columns[name]
+            for c, v in cols.items():
+                values[:, where[c]] = v
+            row = ",".join(["%.10g"] * len(where))
+            for k, (branch, line) in enumerate(zip(sw.columns["branch"], values)):
+                text = (row % tuple(line)).replace("nan", "")
+                fh.write(f"{label},{sw.load_case},{k + 1},{branch},{text}\n")
+    return True
 
 
 def _formatted(column) -> list[str]:
@@ -118,6 +159,7 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
         **({"axle": axle_data(s)} if s.axle is not None else {}),
+        **({"vehicle_loads": vehicle_load_table(s)} if s.rig.vehicle_loads else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
     }
@@ -244,12 +286,15 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
+    from elastokin.report.load_charts import load_chart_data
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
               for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
     write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
+    if write_loads_csv(folder / "loads.csv", run.models, prov):
+        files.insert(1, "loads.csv")
     ident = None
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
@@ -257,7 +302,8 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
-    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary))
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary),
+                       load_chart_data(summary))
     files += [p.name for p in charts] + ["report.html"]
     summary["files"] = files
     write_summary(folder / "summary.json", summary)

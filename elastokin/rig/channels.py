@@ -312,8 +312,25 @@ LOAD_CASE_LIST = (
              "lateral force at the contact patch [N] (+ to the vehicle's left)",
              "lateral force at the contact patches in anti-phase", ("toe",), "patch", "left",
              corner=False),
+    LoadCase("vehicle_loads", "load_fraction", "load applied [-]",
+             "static loads from vehicle accelerations (one case each, vehicle_loads:<case>)",
+             ("toe",), corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
+#: the load case of one static-load case from vehicle accelerations
+VEHICLE_LOAD_CASE = "vehicle_loads:{}"
+
+
+def load_case_info(name: str) -> LoadCase | None:
+    """The load case of a sweep's ``load_case`` (a static-load case from vehicle
+    accelerations, ``vehicle_loads:<case>``, is ``vehicle_loads``'s); None when unknown."""
+    return LOAD_CASES.get(name.partition(":")[0])
+
+
+def load_case_input(name: str) -> str:
+    """The input channel of a sweep's load case (``load_fraction`` when unknown)."""
+    info = load_case_info(name)
+    return info.input if info is not None else "load_fraction"
 #: the force-controlled load cases at the design wheel load
 FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 

@@ -71,7 +71,7 @@ def load_peaks(sweeps: list[Sweep]) -> dict[str, dict]:
     return out
 
 
-def pickup_loads(sweeps: list[Sweep], ground: str) -> dict[str, dict]:
+def pickup_loads(sweeps: list[Sweep]) -> dict[str, dict]:
     """The load each ground pickup receives (body frame): per pickup its position (mm, on the
     ground), the element's kind, the largest force magnitude of every load case and the worst
     case (the largest of all) with its step, force and moment vectors (about the pickup)."""
@@ -79,11 +79,12 @@ def pickup_loads(sweeps: list[Sweep], ground: str) -> dict[str, dict]:
     for sw in sweeps:
         if sw.loads is None:
             continue
-        for name, v in ground_loads(sw.loads, ground, PICKUP_KINDS).items():
+        for name, v in ground_loads(sw.loads, sw.loads.ground, PICKUP_KINDS).items():
             item = sw.loads.items[sw.loads.names().index(name)]
             i, f = peak_step(np.linalg.norm(v[:, 0], axis=1))
-            entry = out.setdefault(name, {"kind": item.kind, "point_mm": v[0, 2].tolist(),
-                                          "load_cases": {}, "worst": None})
+            entry = out.setdefault(name, {"kind": item.kind, "moments": item.moments,
+                                          "point_mm": v[0, 2].tolist(), "load_cases": {},
+                                          "worst": None})
             entry["load_cases"][sw.load_case] = f
             if entry["worst"] is None or f > entry["worst"]["force_N"]:
                 entry["worst"] = {"load_case": sw.load_case, "step": i + 1, "force_N": f,

@@ -50,10 +50,12 @@ from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
 from elastokin.rig.load_cases import (
     StaticResult,
+    drives,
     run_load_cases_sides,
     static_equilibrium,
     wheel_compliance,
 )
+from elastokin.rig.loads import load_peaks, pickup_loads
 from elastokin.rig.sweeps import Sweep, find_sweep
 from elastokin.studies.cache import ResultCache, content_key
 from elastokin.studies.identification import identify_geometry
@@ -86,10 +88,15 @@ class ModelResult:
     def summary(self) -> dict:
         """Summary figures (:func:`elastokin.rig.characteristics.summary_figures`) of the
         config side's wheel; the other wheel's under its side (an axle, or a test with both
-        wheels) and on an axle the axle's (``axle``,
-        :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
+        wheels), on an axle the axle's (``axle``,
+        :func:`elastokin.rig.axle_summary.axle_characteristics`) and, when recorded, every
+        element's peak loads and the body pickups' (``loads``, ``pickups``,
+        :mod:`elastokin.rig.loads`)."""
         c = self.compliance
         out = summary_figures(self.sweeps, self.kinematic, None if c is None else c[:6, :6])
+        peaks = load_peaks(self.sweeps)
+        if peaks:  # the loads of every element and body pickup (rig.loads)
+            out["loads"], out["pickups"] = peaks, pickup_loads(self.sweeps)
         sides = {side: summary_figures(sweeps, self.kinematic, None if c is None else c[6:, 6:])
                  for side, sweeps in self.other_sides.items()}  # the test's other wheel too
         out.update(sides)
@@ -382,6 +389,7 @@ def run_kc_from_variants(suspension: Suspension, variants: dict[str, ModelVarian
     the variants come from (config, rig, CMM and test files): the fit and every model's load
     cases are reused when they were computed from the same inputs."""
     cache, key = fit_cache or (None, "")
+    drives(suspension)  # the rig's load cases checked before any solve (pure, cheap)
     test_sweeps, files = test
     fit_stiffness = bool(test_sweeps) and fit_stiffness and fits_stiffness(suspension)
     models_key = content_key("models", key, static_label, *variants, fit_stiffness)
