@@ -313,15 +313,17 @@ def test_bad_vehicle_data_is_named(change, key, words):
 def test_kc_writes_the_loads(tmp_path):
     """loads.csv (every element's columns, one row per step), summary.json (peaks, pickups,
     the vehicle cases' patch forces), the chart and the report's section."""
-    data = dw(rig=rig(parallel_travel={"rebound_mm": -20, "bump_mm": 20, "step_mm": 20,
+    data = config("double_wishbone_axle.yaml")  # its own solver settings
+    data["axle"]["vehicle"]["axle_mass_kg"] = dict(MASSES)
+    data["rig"] = rig(parallel_travel={"rebound_mm": -20, "bump_mm": 20, "step_mm": 20,
                                        "unloading": False},
                       vehicle_loads={"steps": 2, "cases": {
                           "braking_1g": {"longitudinal_g": -1.0},
-                          "cornering_left": {"lateral_g": 1.0}}}))
-    config = tmp_path / "dw.yaml"
-    config.write_text(json.dumps(data))
+                          "cornering_left": {"lateral_g": 1.0}}})
+    path = tmp_path / "dw.yaml"
+    path.write_text(json.dumps(data))
     out = tmp_path / "res"
-    result = CliRunner().invoke(main, ["kc", "--config", str(config), "--out", str(out),
+    result = CliRunner().invoke(main, ["kc", "--config", str(path), "--out", str(out),
                                        "--models", "initial", "--quiet"])
     assert result.exit_code == 0, result.output
     rows = [ln.split(",") for ln in (out / "loads.csv").read_text().splitlines()
@@ -347,3 +349,20 @@ def test_kc_writes_the_loads(tmp_path):
     html = (out / "report.html").read_text()
     assert '<section id="loads">' in html and 'class="worst"' in html
     assert 'id="chart-largest_loads"' in html
+
+
+def test_the_loads_benchmark_quick(tmp_path):
+    """benchmarks/bench_loads.py --quick: recording the loads changes no number, and the
+    figures the benchmark reports are there (timings themselves are not asserted)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "benchmarks" / "bench_loads.py"
+    spec = importlib.util.spec_from_file_location("bench_loads", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    result = bench.main(["--quick", "--out", str(tmp_path / "bench_loads.json")])
+    figures = result["suspensions"]["double_wishbone_axle"]
+    assert figures["identical_numbers"] and figures["elements"] >= 20
+    assert figures["with_loads_s"] > 0.0 and figures["loads_csv_bytes"] > 0
+    assert json.loads((tmp_path / "bench_loads.json").read_text())["quick"] is True

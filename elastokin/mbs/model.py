@@ -98,6 +98,10 @@ class ModelOptions:
                              f"{self.stiffness_scale}")
 
 
+#: the options of a model whose loads nobody reads (studies, synthetic test data)
+NO_LOADS = ModelOptions(record_loads=False)
+
+
 class SuspensionModel:
     """An assembled Exudyn model of one suspension.
 
@@ -366,7 +370,7 @@ class SuspensionModel:
         if lock is not None:
             self.locks[name] = np.asarray(lock, float)
         self.supports[name] = {"object": obj, "part": part, "marker": m_part,
-                               **_item_keys(item)}
+                               **dict(zip(("item", "item_kind"), item or ()))}
         self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
             objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
             storeInternal=True, writeToFile=False))
@@ -388,7 +392,7 @@ class SuspensionModel:
         kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
         load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
         self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind,
-                            **_item_keys(item)}
+                            **dict(zip(("item", "item_kind"), item or ()))}
         return name
 
     def add_point_sensor(self, name: str, part: str, point_mm) -> str:
@@ -491,8 +495,3 @@ class SuspensionModel:
             "kinematic": self.suspension.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
         }
-
-
-def _item_keys(item: tuple[str, str] | None) -> dict[str, str]:
-    """An attachment's reported item and its kind (:mod:`elastokin.mbs.loads`), if given."""
-    return {} if item is None else {"item": item[0], "item_kind": item[1]}

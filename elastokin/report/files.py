@@ -21,7 +21,7 @@ from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
 from elastokin.report.text import identification_table
 from elastokin.rig.axle_channels import design_track_mm
-from elastokin.rig.channels import load_case_input, sign_conventions
+from elastokin.rig.channels import LOAD_CASES, sign_conventions
 from elastokin.rig.drives import vehicle_load_table
 from elastokin.rig.loads import load_columns
 from elastokin.rig.sweeps import Sweep
@@ -81,7 +81,7 @@ def write_loads_csv(path: Path, models: dict, header: dict) -> bool:
               if sw.loads is not None]
     if not blocks:
         return False
-    inputs = list(dict.fromkeys(load_case_input(sw.load_case) for _, sw in blocks))
+    inputs = list(dict.fromkeys(_input(sw.load_case) for _, sw in blocks))
     columns = [load_columns(sw.loads) for _, sw in blocks]
     names = list(dict.fromkeys(c for cols in columns for c in cols))
     where = {c: i for i, c in enumerate([*inputs, *names])}
@@ -98,7 +98,7 @@ def write_loads_csv(path: Path, models: dict, header: dict) -> bool:
         fh.write(",".join(["model", "load_case", "step", "branch", *where]) + "\n")
         for (label, sw), cols in zip(blocks, columns):
             values = np.full((sw.steps, len(where)), np.nan)
-            name = load_case_input(sw.load_case)
+            name = _input(sw.load_case)
             if name in sw.columns:
                 values[:, where[name]] = sw.columns[name]
             for c, v in cols.items():
@@ -108,6 +108,11 @@ def write_loads_csv(path: Path, models: dict, header: dict) -> bool:
                 text = (row % tuple(line)).replace("nan", "")
                 fh.write(f"{label},{sw.load_case},{k + 1},{branch},{text}\n")
     return True
+
+
+def _input(load_case: str) -> str:
+    """The input channel of a load case (``vehicle_loads:<case>``: ``vehicle_loads``'s)."""
+    return LOAD_CASES[load_case.partition(":")[0]].input
 
 
 def _formatted(column) -> list[str]:
@@ -281,20 +286,20 @@ def write_config(path: Path, config: dict, header: str) -> None:
 
 def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
-    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
+    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json, report.html and,
+    when loads were recorded, loads.csv and the largest loads' chart (listed last).
     Returns the summary."""
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
-    from elastokin.report.load_charts import load_chart_data
+    from elastokin.report.load_charts import LOAD_CHART, load_chart_data
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
               for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
     write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
-    if write_loads_csv(folder / "loads.csv", run.models, prov):
-        files.insert(1, "loads.csv")
+    loads = ["loads.csv"] if write_loads_csv(folder / "loads.csv", run.models, prov) else []
     ident = None
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
@@ -304,7 +309,9 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
     charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary),
                        load_chart_data(summary))
-    files += [p.name for p in charts] + ["report.html"]
+    load_chart = [p.name for p in charts if p.stem == LOAD_CHART]
+    files += [p.name for p in charts if p.stem != LOAD_CHART] + ["report.html"]
+    files += loads + load_chart
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
     write_report(folder / "report.html", summary, charts, ident)

@@ -58,6 +58,10 @@ def make_up_rows(axle: dict) -> list[list[str]]:
              ["this axle's share of braking / drive [-]",
               f"{num(v['brake_fraction'], '.2f')} / {num(v['drive_fraction'], '.2f')}"],
              ["brakes", esc(v["brakes"])]]
+    masses = v.get("axle_mass_kg")
+    if masses:
+        rows.append(["masses the axles carry at rest, front / rear [kg] (static loads)",
+                     f"{num(masses['front'], '.1f')} / {num(masses['rear'], '.1f')}"])
     return rows
 
 

@@ -177,20 +177,14 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
-#: components of a load: force x y z (N), moment x y z (N*mm), in a frame of
-#: :data:`LOAD_FRAMES`
+#: loads.csv: force x y z (N), moment x y z (N*mm) in each frame (docs/characteristics.md)
 LOAD_COMPONENTS = ("fx", "fy", "fz", "mx", "my", "mz")
-#: the frames a load is reported in (loads.csv, docs/characteristics.md "Loads")
-LOAD_FRAMES = {
-    "body": "the ground part's frame (the config frame: the body, subframe or rig frame)",
-    "local": "the element's own frame, fixed to its first part: a bushing's (z axial, x main "
-             "radial), a joint's (z its axis; a ball joint: the part's own axes), the steering "
-             "gear's (z along the rack); links, springs, stops: z from the point on the first "
-             "part to the point on the second (fz > 0 in tension)",
-}
+LOAD_FRAMES = {"body": "the ground part's (config) frame", "local": "the element's own, fixed "
+               "to its first part: a bushing's (z axial), a joint's (z its axis; a ball joint: "
+               "the part's axes), the steering gear's (z along the rack); links, springs, "
+               "stops: z from its first part's point to the second's (fz > 0 in tension)"}
 LOAD_SIGN = ("force or moment the element applies to its first part (a connection's "
-             "parts[0]; a contact patch: the wheel's part), the moment about the element's "
-             "point on that part; the second part receives the opposite force")
+             "parts[0]; a contact patch: the wheel's part) about its point on it")
 
 _LOAD = re.compile(r"(.+)_([fm])([xyz])_(body|local)_(N|Nmm)")
 _SPRING = re.compile(r"spring_(.+)_force_N")
@@ -215,12 +209,9 @@ def channel(name: str) -> Channel | None:
                        f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
     m = _LOAD.fullmatch(name)
     if m:
-        force = m.group(2) == "f"
-        unit = "N" if force else "N*mm"
-        what = "force" if force else "moment"
+        unit, what = ("N", "force") if m.group(2) == "f" else ("N*mm", "moment")
         return Channel(name, unit, f"{LOAD_SIGN}; {m.group(4)}: {LOAD_FRAMES[m.group(4)]}",
-                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)",
-                       adams=f"{m.group(1)}_{what}_{m.group(3)}")
+                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)")
     m = _BUSHING.fullmatch(name)
     if m:
         kind = "rot" if m.group(2) else "disp"
@@ -317,20 +308,8 @@ LOAD_CASE_LIST = (
              ("toe",), corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
-#: the load case of one static-load case from vehicle accelerations
+#: the load case of one static-load case from vehicle accelerations (input load_fraction)
 VEHICLE_LOAD_CASE = "vehicle_loads:{}"
-
-
-def load_case_info(name: str) -> LoadCase | None:
-    """The load case of a sweep's ``load_case`` (a static-load case from vehicle
-    accelerations, ``vehicle_loads:<case>``, is ``vehicle_loads``'s); None when unknown."""
-    return LOAD_CASES.get(name.partition(":")[0])
-
-
-def load_case_input(name: str) -> str:
-    """The input channel of a sweep's load case (``load_fraction`` when unknown)."""
-    info = load_case_info(name)
-    return info.input if info is not None else "load_fraction"
 #: the force-controlled load cases at the design wheel load
 FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 
@@ -509,7 +488,7 @@ def sign_conventions() -> dict[str, str]:
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
-    out["<element>_{fx,fy,fz}_{body,local}_N, _{mx,my,mz}_..._Nmm (loads.csv)"] = (
+    out["<element>_{fx,fy,fz,mx,my,mz}_{body,local}_{N,Nmm} (loads.csv)"] = (
         f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out
