@@ -99,11 +99,19 @@ class LoadRecorder:
         self.force_only: list[bool] = []  # per item: every element a force at its point
         self.elements: list[_Element] = []
         self.known: set[tuple[str, int]] = set()
+        #: the sensor key recording each (object, output) (the model's own sensors reused)
+        self.keys: dict[tuple[int, str], str] = {}
 
     # ------------------------------------------------------------------ elements
     def update(self) -> None:
         """Register every object and load not seen yet, with its sensors."""
         mbs = self.model.mbs
+        for key, sensor in self.model.sensors.items():
+            if key not in self.keys.values():
+                s = mbs.GetSensor(sensor)
+                if s["sensorType"] == "Object":
+                    self.keys.setdefault((int(s["objectNumber"]), str(
+                        s["outputVariableType"]).rpartition(".")[2]), key)
         for number in range(mbs.systemData.NumberOfObjects()):
             if ("object", number) not in self.known:
                 self.known.add(("object", number))
@@ -120,11 +128,11 @@ class LoadRecorder:
         if kind not in OUTPUTS:
             return
         markers = tuple(self._marker(m) for m in obj["markerNumbers"])
-        parts = tuple(self._part(m) for m in markers)
         if not any(m.body in self.model.body for m in markers):
             return  # between the ground and the rig's own bodies (the heave beam's holder)
-        name, what = self._item_name(obj["name"], parts)
-        flip = what in ("support", "contact_patch", "steering_gear")
+        parts = tuple(self._part(m) for m in markers)
+        name, what = self._item_name(obj["name"])
+        flip = obj["name"] in self.model.supports  # a support's load: on the part it holds
         item = self._item(name, what, parts[::-1] if flip else parts)
         params = {"constrained": obj.get("constrainedAxes"),
                   "intrinsic": bool(obj.get("useIntrinsicFormulation", False)),
@@ -134,10 +142,12 @@ class LoadRecorder:
         constrained = params["constrained"]
         self.force_only[item] &= kind == "JointSpherical" or (
             kind == "JointGeneric" and not any(constrained[3:]))
-        for output in OUTPUTS[kind]:
-            self.model.sensors[f"load:{number}:{output}"] = mbs.AddSensor(SensorObject(
-                objectNumber=number, outputVariableType=getattr(exu.OutputVariableType, output),
-                storeInternal=True, writeToFile=False))
+        for output in _outputs(kind, constrained):
+            if (number, output) not in self.keys:
+                key = self.keys[number, output] = f"load:{number}:{output}"
+                self.model.sensors[key] = mbs.AddSensor(SensorObject(
+                    objectNumber=number, storeInternal=True, writeToFile=False,
+                    outputVariableType=getattr(exu.OutputVariableType, output)))
 
     def _add_load(self, number: int) -> None:
         model, mbs = self.model, self.model.mbs
@@ -147,11 +157,10 @@ class LoadRecorder:
             return
         name, e = entry
         marker = self._marker(mbs.GetLoad(number)["markerNumber"])
-        part = self._part(marker)
         if marker.body not in model.body:
             return  # on the ground or a rig body (the heave beam's load)
         item = self._item(self._free(e.get("item", name)), e.get("item_kind", "load"),
-                          (part, model.suspension.ground))
+                          (marker.body, model.suspension.ground))
         kind = "Load" if e["kind"] == "force" else "LoadTorque"
         self.elements.append(_Element(item, kind, number, (marker,)))
         self.force_only[item] = False
@@ -161,9 +170,10 @@ class LoadRecorder:
     def _marker(self, number: int) -> _Marker:
         model = self.model
         m = model.mbs.GetMarker(number)
-        if "bodyNumber" not in m:
+        if "bodyNumber" not in m:  # e.g. on a node: its pose is not recorded
             raise ModelError(f"{model.suspension.source}: loads cannot be recorded on a "
-                             f"marker of type {m.get('markerType')}")
+                             f"marker of type {m.get('markerType')} (ModelOptions("
+                             "record_loads=False) builds the model without them)")
         body = int(m["bodyNumber"])
         key = next((n for n, b in {**model.body, **model.rig_bodies}.items() if int(b) == body),
                    None)
@@ -181,7 +191,7 @@ class LoadRecorder:
             return self.model.suspension.ground
         return marker.body if marker.body in self.model.body else None
 
-    def _item_name(self, name: str, parts) -> tuple[str, str]:
+    def _item_name(self, name: str) -> tuple[str, str]:
         """(reported item, its kind) of an Exudyn object of this name."""
         model = self.model
         if name in model.supports:
@@ -223,11 +233,12 @@ class LoadRecorder:
                      for item, only in zip(self.items, self.force_only))
 
     # ------------------------------------------------------------------ values
-    def tables(self, data: dict[str, np.ndarray]) -> LoadTable:
-        """The loads at the steps of ``data`` (sensor key -> (n, ...) values at the recorded
-        steps, the time column removed; every part's pose among them): a table of (n, items,
-        quantities, 3) values (:data:`~elastokin.physics.loads.QUANTITIES`)."""
-        n = len(next(iter(data.values())))
+    def tables(self, stored: dict[str, np.ndarray], steps: np.ndarray) -> LoadTable:
+        """The loads at the rows ``steps`` of the sensors' ``stored`` data (key -> Exudyn's
+        stored (rows, 1 + values), time first): a table of (n, items, quantities, 3) values
+        (:data:`~elastokin.physics.loads.QUANTITIES`)."""
+        data = _Rows(stored, steps)
+        n = len(steps)
         out = np.zeros((n, len(self.items), len(QUANTITIES), 3))
         frames: dict[int, np.ndarray] = {}  # the item's frame: its first element's
         active = self._active()
@@ -269,7 +280,7 @@ class LoadRecorder:
         it, that point, the point on the second part, the moment on the second part about
         it, and the element's frame (n, 3, 3) for the local components."""
         (p0, A0), (p1, A1) = (geometry + geometry)[:2]
-        raw = [data[f"load:{e.number}:{o}"] for o in OUTPUTS.get(e.kind, ())]
+        raw = [data[self.keys[e.number, o]] for o in _outputs(e.kind, e.params.get("constrained"))]
         zero = np.zeros_like(p0)
         if e.kind in ("Load", "LoadTorque"):
             v = data[f"load:L{e.number}"]
@@ -282,7 +293,8 @@ class LoadRecorder:
             r0, r1 = e.params["rotation"]
             A0, A1 = A0 @ r0, A1 @ r1
             f1 = np.einsum("nij,nj->ni", A0, raw[0])
-            m1 = _generic_torque(e.params["constrained"], raw[1], A0, A1)
+            m1 = _generic_torque(e.params["constrained"], raw[1] if len(raw) > 1 else None, A0,
+                                 A1)
             at0 = p0 if all(e.params["constrained"][:3]) else p1
         elif e.kind in ("ConnectorDistance", "ConnectorSpringDamper"):
             d = p1 - p0
@@ -302,19 +314,40 @@ class LoadRecorder:
         return -f1, -m1, at0, p1, m1, A0
 
 
-def _generic_torque(constrained, lam: np.ndarray, A0: np.ndarray, A1: np.ndarray) -> np.ndarray:
+def _outputs(kind: str, constrained) -> tuple[str, ...]:
+    """The outputs recorded of an object: a generic joint holding no rotation has no torque
+    (pads, the steering gear: one sensor less each)."""
+    if kind == "JointGeneric" and not any(constrained[3:]):
+        return OUTPUTS[kind][:1]
+    return OUTPUTS.get(kind, ())
+
+
+class _Rows(dict):
+    """Sensor values at the picked rows, the time column dropped, taken when first asked."""
+
+    def __init__(self, stored: dict[str, np.ndarray], steps: np.ndarray):
+        super().__init__()
+        self.stored, self.steps = stored, steps
+
+    def __missing__(self, key: str) -> np.ndarray:
+        value = self[key] = self.stored[key][self.steps, 1:]
+        return value
+
+
+def _generic_torque(constrained, lam: np.ndarray | None, A0: np.ndarray, A1: np.ndarray
+                    ) -> np.ndarray:
     """Torque (n, 3) of a generic joint on marker 1's body from its rotation multipliers
     (module docstring): each constraint ``a0 . b1`` contributes ``-lambda (a0 x b1)``."""
     locked = [k for k in range(3) if constrained[3 + k]]
+    if not locked:
+        return np.zeros((len(A0), 3))
     free = [k for k in range(3) if not constrained[3 + k]]
     if len(locked) == 3:
         pairs = {0: (2, 1), 1: (2, 0), 2: (0, 1)}
     elif len(locked) == 2:
         pairs = {k: (free[0], k) for k in locked}
-    elif len(locked) == 1:
-        pairs = {locked[0]: (free[0], free[1])}
     else:
-        return np.zeros((len(lam), 3))
+        pairs = {locked[0]: (free[0], free[1])}
     out = np.zeros((len(lam), 3))
     for k, (i, j) in pairs.items():
         out -= lam[:, k:k + 1] * _cross(A0[:, :, i], A1[:, :, j])

@@ -215,6 +215,9 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             break
         rows.append(hit[-1])
     idx = np.asarray(rows, int)
+    loads = None
+    if model.load_recorder is not None and idx.size:  # from the sensors as stored
+        loads = model.load_recorder.tables(data, idx)
     for name in model.bushings:  # bushing deflection: mm and deg in one 6-vector
         data[f"bushing:{name}:u"] = np.concatenate(
             [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / DEG],
@@ -223,12 +226,8 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
             axis=1)
     picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
-              for k, v in data.items()}
-    loads = None
-    if model.load_recorder is not None and idx.size:
-        loads = model.load_recorder.tables(picked)
-    rows = [{k: v[i] for k, v in picked.items() if not k.startswith("load:")}
-            for i in range(idx.size)]
+              for k, v in data.items() if not k.startswith("load:")}
+    rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
     for i, row in enumerate(rows):
         row["loads"] = None if loads is None else loads.step(i)
     return rows
