@@ -114,9 +114,11 @@ def load_case_times(s, repeat: int) -> dict:
 def file_times(s, runs: dict, folder: Path) -> dict:
     """loads.csv, the largest-loads chart and the Loads section from one model's run."""
     from elastokin.report.chart_canvas import ChartCanvas, save_chart
-    from elastokin.report.files import config_provenance, write_loads_csv
+    from elastokin.report.files import config_provenance
     from elastokin.report.html_loads import loads_section
     from elastokin.report.load_charts import draw_load_chart, load_chart_data
+    from elastokin.report.loads_csv import write_loads_csv
+    from elastokin.rig.loads import load_summary
     from elastokin.studies.kc_job import ModelResult
 
     result = ModelResult("initial", False, runs[s.side], {})
@@ -126,7 +128,7 @@ def file_times(s, runs: dict, folder: Path) -> dict:
     t0 = time.perf_counter()
     write_loads_csv(folder / "loads.csv", {"initial": result}, prov)
     t1 = time.perf_counter()
-    summary = {"models": {"initial": result.summary()}}
+    summary = {"models": {"initial": load_summary(result.sweeps)}}
     data = load_chart_data(summary)
     save_chart(draw_load_chart(canvas, data, prov), folder / "largest_loads.png")
     t2 = time.perf_counter()

@@ -36,7 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from exudyn.itemInterface import SensorLoad, SensorObject
+from exudyn.itemInterface import SensorLoad, SensorNode, SensorObject
 
 from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
@@ -65,14 +65,17 @@ OUTPUTS = {"JointSpherical": ("Force",), "JointGeneric": ("ForceLocal", "TorqueL
 
 @dataclass
 class _Marker:
-    """Where a marker is: on ``body`` (a pose key: a part, a rig body, or None for the
-    ground) at ``local`` (relative to the body's reference point, design position) with axes
-    ``rotation`` (columns, in the body's frame)."""
+    """Where a marker is: on the body or node whose pose is recorded as ``part:<key>:R``,
+    ``part:<key>:disp`` (None: the ground) at ``local`` (relative to its reference point
+    ``ref``, design position) with axes ``rotation`` (columns, in its frame); ``part``: the
+    suspension's part it belongs to (a beam part's for its nodes; the ground's; None: a rig
+    body)."""
 
-    body: str | None
+    key: str | None
     local: np.ndarray
     rotation: np.ndarray
     ref: np.ndarray
+    part: str | None
 
 
 @dataclass
@@ -127,10 +130,12 @@ class LoadRecorder:
         kind = obj["objectType"]
         if kind not in OUTPUTS:
             return
+        if obj["name"].startswith("beam:"):
+            return  # within a flexible part (its ties): internal, not a load on it
         markers = tuple(self._marker(m) for m in obj["markerNumbers"])
-        if not any(m.body in self.model.body for m in markers):
+        if not any(self._moving(m) for m in markers):
             return  # between the ground and the rig's own bodies (the heave beam's holder)
-        parts = tuple(self._part(m) for m in markers)
+        parts = tuple(m.part for m in markers)
         name, what = self._item_name(obj["name"])
         flip = obj["name"] in self.model.supports  # a support's load: on the part it holds
         item = self._item(name, what, parts[::-1] if flip else parts)
@@ -157,10 +162,10 @@ class LoadRecorder:
             return
         name, e = entry
         marker = self._marker(mbs.GetLoad(number)["markerNumber"])
-        if marker.body not in model.body:
+        if not self._moving(marker):
             return  # on the ground or a rig body (the heave beam's load)
         item = self._item(self._free(e.get("item", name)), e.get("item_kind", "load"),
-                          (marker.body, model.suspension.ground))
+                          (marker.part, model.suspension.ground))
         kind = "Load" if e["kind"] == "force" else "LoadTorque"
         self.elements.append(_Element(item, kind, number, (marker,)))
         self.force_only[item] = False
@@ -170,26 +175,39 @@ class LoadRecorder:
     def _marker(self, number: int) -> _Marker:
         model = self.model
         m = model.mbs.GetMarker(number)
-        if "bodyNumber" not in m:  # e.g. on a node: its pose is not recorded
-            raise ModelError(f"{model.suspension.source}: loads cannot be recorded on a "
-                             f"marker of type {m.get('markerType')} (ModelOptions("
-                             "record_loads=False) builds the model without them)")
-        body = int(m["bodyNumber"])
-        key = next((n for n, b in {**model.body, **model.rig_bodies}.items() if int(b) == body),
-                   None)
-        if m.get("localHT") is not None:  # a rigid marker (it lists its localPosition too)
+        if m.get("localHT") is not None:  # a rigid marker (it may list localPosition too)
             ht = np.asarray(m["localHT"], float)
             rotation, local = ht[:3, :3], ht[:3, 3]
         else:
-            rotation, local = np.eye(3), np.asarray(m["localPosition"], float)
-        ref = model.ref[key] if key is not None else np.zeros(3)
-        return _Marker(key, local, rotation, ref)
+            rotation, local = np.eye(3), np.asarray(m.get("localPosition", np.zeros(3)), float)
+        if "nodeNumber" in m:  # at a node of a flexible (beam) part
+            node = int(m["nodeNumber"])
+            part = next((p for p, b in model.beams.items() if node in map(int, b.nodes)), None)
+            if part is None:
+                raise ModelError(f"{model.suspension.source}: loads cannot be recorded at node "
+                                 f"{node}: it belongs to no part")
+            key = f"node:{node}"
+            if f"part:{key}:R" not in model.sensors:  # its pose: position as displacement
+                ovt = exu.OutputVariableType
+                for what, output in (("R", ovt.RotationMatrix), ("disp", ovt.Position)):
+                    model.sensors[f"part:{key}:{what}"] = model.mbs.AddSensor(SensorNode(
+                        nodeNumber=node, outputVariableType=output, storeInternal=True,
+                        writeToFile=False))
+            return _Marker(key, local, rotation, np.zeros(3), part)
+        body = int(m["bodyNumber"])
+        if body == int(model.ground):
+            return _Marker(None, local, rotation, np.zeros(3), model.suspension.ground)
+        key = next((n for n, b in {**model.body, **model.rig_bodies}.items() if int(b) == body),
+                   None)
+        if key is None:
+            raise ModelError(f"{model.suspension.source}: loads cannot be recorded on body "
+                             f"{body}: it is no part of the model")
+        return _Marker(key, local, rotation, model.ref[key],
+                       key if key in model.body else None)
 
-    def _part(self, marker: _Marker) -> str | None:
-        """The suspension part (or the ground) a marker is on; None on a rig body."""
-        if marker.body is None:
-            return self.model.suspension.ground
-        return marker.body if marker.body in self.model.body else None
+    def _moving(self, marker: _Marker) -> bool:
+        """Whether the marker is on a moving part of the suspension."""
+        return marker.part is not None and marker.part != self.model.suspension.ground
 
     def _item_name(self, name: str) -> tuple[str, str]:
         """(reported item, its kind) of an Exudyn object of this name."""
@@ -268,11 +286,11 @@ class LoadRecorder:
 
     def _geometry(self, marker: _Marker, data, n: int) -> tuple[np.ndarray, np.ndarray]:
         """(positions (n, 3), frames (n, 3, 3)) of a marker at every step."""
-        if marker.body is None:
+        if marker.key is None:
             return (np.broadcast_to(marker.local, (n, 3)),
                     np.broadcast_to(marker.rotation, (n, 3, 3)))
-        R = data[f"part:{marker.body}:R"].reshape(n, 3, 3)
-        disp = data[f"part:{marker.body}:disp"]
+        R = data[f"part:{marker.key}:R"].reshape(n, 3, 3)
+        disp = data[f"part:{marker.key}:disp"]
         return (R @ marker.local + marker.ref + disp, R @ marker.rotation)
 
     def _element_loads(self, e: _Element, data, geometry):

@@ -17,6 +17,7 @@ from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
 from elastokin.report.html_loads import loads_section
+from elastokin.report.html_motion import motion_section
 from elastokin.report.html_parts import esc, figure, note, num, table
 from elastokin.report.load_charts import LOAD_CHART
 from elastokin.report.text import fixed
@@ -27,6 +28,7 @@ SECTIONS = (
     ("summary", "Summary"),
     ("warnings", "Warnings"),
     ("identification", "Geometric identification"),
+    ("motion", "Joints from motion"),
     ("static", "Static state"),
     ("characteristics", "K&C characteristics"),
     ("charts", "Charts"),
@@ -121,6 +123,9 @@ def model_meaning(label: str, measured: bool) -> str:
                     else "the config's geometry"),
         "identified": "joints where the assembled measurement puts them, each bushing "
                       "deflected as at the static equilibrium (the paper's identified model)",
+        "identified_motion": "joints where the parts' motion over the rig positions locates "
+                             "them (no disassembly: SCoRE, SARA), bushings where the config "
+                             "puts them",
         "identified_stiffness": "the identified model with its bushing laws fitted to the "
                                 "test data",
     }
@@ -344,8 +349,8 @@ def provenance_section(summary: dict) -> list[str]:
 
 
 # ------------------------------------------------------------------------------ the page
-def report_sections(summary: dict, charts: list[Path],
-                    identification: dict | None = None) -> list[tuple[str, list[str]]]:
+def report_sections(summary: dict, charts: list[Path], identification: dict | None = None,
+                    motion: dict | None = None) -> list[tuple[str, list[str]]]:
     """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
     with_test = "test" in summary["models"]
     axle_charts = [p for p in charts if p.stem in AXLE_CHARTS]
@@ -358,6 +363,7 @@ def report_sections(summary: dict, charts: list[Path],
              "warnings": warnings_section(summary) if summary.get("warnings") else None,
              "identification": (identification_section(identification)
                                 if identification else None),
+             "motion": motion_section(motion) if motion else None,
              "static": static_section(summary),
              "characteristics": characteristics_section(summary),
              "charts": (charts_section(charts, with_test,
@@ -375,10 +381,11 @@ def report_sections(summary: dict, charts: list[Path],
 
 
 def write_report(path: Path, summary: dict, charts: list[Path],
-                 identification: dict | None = None) -> Path:
+                 identification: dict | None = None, motion: dict | None = None) -> Path:
     """Write ``report.html`` from ``summary.json``'s content, the PNG charts and (with
-    measurements) ``identification.json``'s content."""
-    sections = report_sections(summary, charts, identification)
+    measurements) ``identification.json``'s and (with a motion plan)
+    ``motion_identification.json``'s content."""
+    sections = report_sections(summary, charts, identification, motion)
     title = f"K&C report: {summary.get('config_name') or summary['config_file']}"
     head = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta "
             f"name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>"

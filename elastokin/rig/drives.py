@@ -20,6 +20,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -42,6 +43,9 @@ from elastokin.rig.channels import FORCE_CASES, LOAD_CASES, VEHICLE_LOAD_CASE
 from elastokin.rig.pad import WheelInputs
 from elastokin.rig.paths import leg, sweep_path, travel_path, vertical_force_path
 
+#: the load cases a kinematic model runs (:func:`drives`)
+KINEMATIC_CASES = ("parallel_travel", "vertical_force", "opposite_travel",
+                   "single_wheel_travel", "roll_vertical_force", "steering", "vehicle_loads")
 #: the axle's load cases, in the order they run (after the corner cases)
 AXLE_CASES = ("opposite_travel", "single_wheel_travel", "roll_vertical_force", "steering",
               "static_load", "lateral_force_anti_phase", "vehicle_loads")
@@ -149,17 +153,17 @@ def steering_drive(suspension: Suspension, spec: SteeringSweepSpec) -> Drive:
     s = _axle(suspension, "steering")
     st = s.axle.steering
     if st is None:
-        raise ConfigError(f"{s.source}: key 'rig.steering': the axle has no steering "
+        raise ConfigError(f"{s.rig_key('steering')}: the axle has no steering "
                           "(axle.steering); leave the load case out (steering: null)")
     limit = steering_wheel_room_deg(st)
     held = f", the rack held at {st.travel_mm:g} mm" if st.travel_mm else ""
     if not limit > 0:
-        raise ConfigError(f"{s.source}: key 'rig.steering': the rack is held at its travel "
+        raise ConfigError(f"{s.rig_key('steering')}: the rack is held at its travel "
                           f"limit ({st.travel_mm:g} mm, axle.steering.limit_mm "
                           f"{st.limit_mm:g} mm): no room to steer")
     amplitude = spec.amplitude_deg if spec.amplitude_deg is not None else limit
     if amplitude > limit * (1.0 + 1e-9):
-        raise ConfigError(f"{s.source}: key 'rig.steering.amplitude_deg': {amplitude:g} deg "
+        raise ConfigError(f"{s.rig_key('steering.amplitude_deg')}: {amplitude:g} deg "
                           f"takes the rack beyond its travel limit (axle.steering.limit_mm "
                           f"{st.limit_mm:g} mm{held}: {limit:.4g} deg of steering wheel)")
     swa, branch = sweep_path(amplitude, spec.step_deg)
@@ -191,9 +195,9 @@ def vehicle_data(suspension: Suspension) -> VehicleData:
     s = _axle(suspension, "vehicle_loads")
     v = s.axle.vehicle
     if v is None or v.axle_mass_kg is None:
-        raise ConfigError(f"{s.source}: key 'rig.vehicle_loads': the static-load analysis "
-                          "needs the vehicle data axle.vehicle with its axle_mass_kg: "
-                          "{front: KG, rear: KG}")
+        raise ConfigError(f"{s.rig_key('vehicle_loads')}: the static-load analysis needs the "
+                          "vehicle data axle.vehicle with its axle_mass_kg: {front: KG, rear: "
+                          "KG}")
     return VehicleData(v.axle_mass_kg.front, v.axle_mass_kg.rear, v.position, v.wheelbase_mm,
                        v.cg_height_mm, design_track_mm(s), v.brake_fraction,
                        v.drive_fraction, v.lateral_transfer_fraction, v.brakes, v.drive)
@@ -209,7 +213,7 @@ def vehicle_load_drive(suspension: Suspension, name: str, case: VehicleLoadCaseS
     loads = wheel_loads(vehicle_data(s), case.longitudinal_g, case.lateral_g, case.bump_g)
     lifted = lifted_wheels(loads)
     if lifted:
-        raise ConfigError(f"{s.source}: key 'rig.vehicle_loads.cases.{name}': the "
+        raise ConfigError(f"{s.rig_key(f'vehicle_loads.cases.{name}')}: the "
                           f"{' and '.join(lifted)} wheel would lift off (vertical load "
                           f"{loads[lifted[0]].patch[2]:.0f} N): lower the accelerations")
     frac = leg(0.0, 1.0, 1.0 / steps)
@@ -288,10 +292,50 @@ def force_drive(suspension: Suspension, case: str,
     return Drive(case, lc.input, values, branch, wheels, side_inputs=own)
 
 
+def why_not_run(suspension: Suspension, case: str, fitted: bool = False) -> str | None:
+    """Why no model of ``suspension`` runs the load case ``case``: an axle's case on a
+    corner, steering without a steering rack, a force case when every model is kinematic, or
+    a case the rig leaves out (unless ``fitted``: the stiffness fit runs the test's corner
+    cases whatever the rig); None when some model runs it."""
+    s = suspension
+    lc = LOAD_CASES[case]
+    if not lc.corner and s.axle is None:
+        return "an axle load case, and the config is one corner (no 'axle' section)"
+    if case == "steering" and s.axle.steering is None:
+        return "the axle has no steering (axle.steering)"
+    if s.kinematic and case not in KINEMATIC_CASES:
+        return "every model is kinematic (kinematic: true): they run the travel, vertical " \
+               "force, roll and steering cases only"
+    if getattr(s.rig, case) is None and not (fitted and lc.corner):
+        return f"the rig leaves the load case out ({s.rig_key(case)} is null)"
+    return None
+
+
+def check_rig(suspension: Suspension, rig: RigSpec | None = None) -> None:
+    """Warn (:class:`RigWarning`) of a load case the rig (default the suspension's) gives
+    explicitly that no model of ``suspension`` can run (:func:`why_not_run`): the K&C job
+    leaves it out (:func:`drives` skips it), and says so once. Every drive is built (pure,
+    cheap): a case that cannot be built (a wheel lifted by vehicle accelerations) is an error
+    before any solve."""
+    rig = rig or suspension.rig
+    drives(suspension, rig)
+    for case in sorted(rig.model_fields_set):
+        if getattr(rig, case) is None:
+            continue
+        why = why_not_run(suspension, case)
+        if why is not None:
+            warnings.warn(RigWarning(f"{suspension.rig_key(case)}: given, but {why}: the "
+                                     "load case is left out"), stacklevel=2)
+
+
+class RigWarning(UserWarning):
+    """A load case of the rig that is given but cannot run."""
+
+
 def _axle(suspension: Suspension, case: str) -> Suspension:
     if suspension.axle is None:
-        raise ConfigError(f"{suspension.source}: key 'rig.{case}': an axle load case; the "
-                          "config is one corner (add an 'axle' section)")
+        raise ConfigError(f"{suspension.rig_key(case)}: an axle load case; the config is one "
+                          "corner (add an 'axle' section)")
     return suspension
 
 

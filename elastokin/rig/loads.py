@@ -71,6 +71,13 @@ def load_peaks(sweeps: list[Sweep]) -> dict[str, dict]:
     return out
 
 
+def load_summary(sweeps: list[Sweep]) -> dict[str, dict]:
+    """summary.json's ``loads`` (:func:`load_peaks`) and ``pickups`` (:func:`pickup_loads`)
+    of a model's sweeps; empty when no loads were recorded (test data)."""
+    peaks = load_peaks(sweeps)
+    return {"loads": peaks, "pickups": pickup_loads(sweeps)} if peaks else {}
+
+
 def pickup_loads(sweeps: list[Sweep]) -> dict[str, dict]:
     """The load each ground pickup receives (body frame): per pickup its position (mm, on the
     ground), the element's kind, the largest force magnitude of every load case and the worst

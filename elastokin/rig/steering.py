@@ -56,6 +56,10 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     if not s.springs:
         reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
                             "computed with the springs locked)")
+    flexible = [b.part for b in s.beams if not b.rigid]
+    if flexible:
+        reason = reason or (f"the flexible beam part(s) {', '.join(flexible)}: the steering "
+                            "axis is computed for rigid parts only")
     for j in s.joints:
         flags = list(j.constrained)
         shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
@@ -94,10 +98,15 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
     s = suspension
     centre = np.array([st.wheel_centre_mm for st in states])
     spin = np.array([st.spin_axis for st in states])
-    axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
+    skeleton = steering_skeleton(s)
+    axes = steering_axes_from_poses(skeleton, [st.poses for st in states], centre)
     d, p = axes.direction.copy(), axes.point
     d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
-    if axes.reason is not None or np.isnan(d).any():
+    if skeleton.reason is not None:  # the suspension has none (the same for every run)
+        warnings.warn(SteeringAxisWarning(
+            f"{s.source}: no steering axis (NaN caster, kingpin inclination, scrub radius, "
+            f"caster trail): {skeleton.reason}"), stacklevel=2)
+    elif axes.reason is not None or np.isnan(d).any():
         bad = int(np.isnan(d).any(axis=1).sum())
         warnings.warn(SteeringAxisWarning(
             f"{s.source}: steering axis undefined at {bad} of {len(states)} steps (NaN "
