@@ -236,13 +236,13 @@ def test_a_double_wishbone_against_its_statics_by_hand():
     load = v["contact_patch_left"][FORCE]
     assert load == pytest.approx([0.0, 0.0, 4000.0], abs=1e-6)
     hand = hand_statics(HAND["hardpoints"], load)
-    scale = 1e-7 * 4000.0  # the design position is the solve's to ~1e-6 mm
+    tol = 1e-9 * 4000.0  # the pad holds the design position: the geometry is the hardpoints'
     # a ball joint's load is on its first part, the arm: minus the force on the knuckle
-    assert np.allclose(v["ubj"][FORCE], -hand["ubj"], atol=scale * 10)
-    assert np.allclose(v["lbj"][FORCE], -hand["lbj"], atol=scale * 10)
-    assert v["tie_rod"][FORCE_LOCAL][2] == pytest.approx(hand["tie_rod"], abs=scale * 10)
-    assert state.spring_force_N["coil"] == pytest.approx(hand["coil"], rel=1e-7)
-    assert -v["coil"][FORCE_LOCAL][2] == pytest.approx(hand["coil"], rel=1e-7)
+    assert np.allclose(v["ubj"][FORCE], -hand["ubj"], rtol=0.0, atol=tol)
+    assert np.allclose(v["lbj"][FORCE], -hand["lbj"], rtol=0.0, atol=tol)
+    assert v["tie_rod"][FORCE_LOCAL][2] == pytest.approx(hand["tie_rod"], abs=tol)
+    assert state.spring_force_N["coil"] == pytest.approx(hand["coil"], rel=1e-9)
+    assert -v["coil"][FORCE_LOCAL][2] == pytest.approx(hand["coil"], rel=1e-9)
     assert np.linalg.norm(hand["lbj"]) > 3000.0 and abs(hand["tie_rod"]) > 10.0  # not trivial
 
 
@@ -297,7 +297,7 @@ def test_a_hand_case_of_braking_in_a_turn():
     (lambda d: d["axle"]["vehicle"].update(axle_mass_kg={"front": 10778, "rear": 1008.7}),
      "axle.vehicle.axle_mass_kg.front", "times design.wheel_load_N"),
     (lambda d: d["axle"]["vehicle"].update(axle_mass_kg={"front": 1077.8, "rear": 98900}),
-     "axle.vehicle.axle_mass_kg.rear", "not a plausible mass"),
+     "axle.vehicle.axle_mass_kg.rear", "in N? (expected 20 ... 30,000 kg"),
     (lambda d: d["axle"]["vehicle"].pop("axle_mass_kg"), "rig.vehicle_loads", "axle_mass_kg"),
     (lambda d: d["rig"]["vehicle_loads"]["cases"].update(hard={"lateral_g": 1.4}),
      "rig.vehicle_loads.cases.hard", "left wheel would lift off"),

@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
-from elastokin.config.plausibility import fraction, plausible
+from elastokin.config.plausibility import fraction, implausible, plausible
 from elastokin.config.schema_base import AxisSpec, CurveSpec, Point3, PointSpec, StrictModel
 
 
@@ -110,14 +110,10 @@ class AntiRollBarSpec(StrictModel):
         return self
 
 
-#: plausible mass an axle carries (kg): a light car's rear axle to a heavy truck's
-AXLE_MASS_RANGE_KG = (20.0, 30000.0)
-
-
 class AxleMassesSpec(StrictModel):
     """The masses the front and the rear axle carry at rest (kg; their sum is the vehicle's
     mass in the static-load analysis), as the suspensions carry them: without the unsprung
-    masses when the design wheel load leaves them out."""
+    masses when the design wheel load leaves them out; each within its plausible range."""
 
     front: float
     rear: float
@@ -125,12 +121,9 @@ class AxleMassesSpec(StrictModel):
     @field_validator("front", "rear")
     @classmethod
     def _plausible(cls, v: float) -> float:
-        lo, hi = AXLE_MASS_RANGE_KG
-        if not lo <= v <= hi:
-            hint = (f"; in N? {v / 9.80665:.0f} kg" if lo <= v / 9.80665 <= hi else
-                    "; in tonnes? give kg" if v < lo else "")
-            raise ValueError(f"{v:g} kg is not a plausible mass for one axle ({lo:g} to "
-                             f"{hi:g} kg){hint}")
+        problem = implausible("axle_mass_kg", v)
+        if problem:
+            raise ValueError(problem)
         return v
 
 
@@ -154,11 +147,13 @@ class VehicleSpec(StrictModel):
     axle_mass_kg: AxleMassesSpec | None = None
     #: this axle's share of the lateral load transfer (roll stiffness distribution), 0 ... 1
     #: (None: its share of the mass)
-    lateral_transfer_fraction: float | None = Field(default=None, ge=0, le=1)
+    lateral_transfer_fraction: float | None = Field(default=None, ge=0)
 
     # values outside a plausible range are refused with the likely unit slip named
     _plausible = field_validator("wheelbase_mm", "cg_height_mm")(plausible)
     _fractions = field_validator("brake_fraction", "drive_fraction")(fraction)
+    _transfer = field_validator("lateral_transfer_fraction")(
+        lambda v: None if v is None else fraction(v))
 
 
 class AxleSpec(StrictModel):

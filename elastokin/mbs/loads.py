@@ -7,7 +7,8 @@ the anti-roll bar, ball-joint friction, idle-spin springs), every support and ev
 .LoadItem`): a bushing modelled by its ideal joint is that joint plus its regularising spring,
 a ball joint with friction is the joint plus its friction element, a wheel's contact patch is
 the rig's pad plus the loads at the patch and the wheel centre (attachments name their item,
-:meth:`~elastokin.mbs.model.SuspensionModel.add_support`).
+:meth:`~elastokin.mbs.model.SuspensionModel.add_support`). A flexible (beam) part's own ties
+are internal to it; a connection at one of its nodes is read at the node's recorded pose.
 
 What Exudyn applies (its C++ source, checked here by every part's free-body equilibrium to the
 Newton residual, ``tests/test_loads.py``):
@@ -397,4 +398,4 @@ def _line_frames(u: np.ndarray) -> np.ndarray:
     return np.stack([x, _cross(u, x), u], axis=2)
 
 
-__all__ = ["LoadRecorder", "MOMENT", "POINT"]
+__all__ = ["LoadRecorder"]

@@ -301,6 +301,7 @@ def signs_section(summary: dict) -> list[str]:
     rows += [[f"{esc(channel(c).label)}", esc(CHANNELS[c].sign)] for c in SIGNED]
     rows += [["bushing deflection", esc(signs.get("bushing_*", ""))],
              ["spring force", esc(signs.get("spring_*_force_N", ""))]]
+    rows += [["loads (loads.csv)", esc(v)] for k, v in signs.items() if "loads.csv" in k]
     definitions = [[f"{esc(c.label)} [{c.unit}]", esc(c.definition)]
                    for c in CHARACTERISTIC_LIST]
     return [note("ISO 8855 / SAE J670 names; per wheel for the wheel angles. Every column of "

@@ -49,7 +49,7 @@ def pickup_rows(pickups: dict) -> list[list[str]]:
         where = [signed(v, ".1f") for v in p["point_mm"]]
         if not w["force_N"] > 0.0:  # a stop never in contact
             rows.append([esc(name), esc(p["kind"]), *where, "no load in any case",
-                         *["&ndash;"] * 8])
+                         *["&ndash;"] * 7])
             continue
         moment = ([signed(v * NM, ".1f") for v in w["moment_vector_Nmm"]] if p["moments"]
                   else ["&ndash;"] * 3)
