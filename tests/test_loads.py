@@ -76,14 +76,16 @@ def solved(data: dict, kinematic_model: bool = False):
 
 @pytest.fixture(scope="module")
 def runs():
-    """Every load case of CASES on four models: the double wishbone axle (bushings, rack,
-    anti-roll bar, stops), its kinematic twin, the case study (bushings, a strut) and the
-    twist beam (a flexible cross beam welded to the arms)."""
+    """Every load case of CASES on five models: the double wishbone axle (bushings, rack,
+    anti-roll bar, stops), its kinematic twin, the case study (bushings, a strut), the twist
+    beam (a flexible cross beam welded to the arms) and a solid axle (one part carrying both
+    wheels, a planar guide, an in-plane joint, a Panhard rod)."""
     corner_cases = {k: v for k, v in CASES.items() if k not in ("steering", "vehicle_loads")}
     return {"double_wishbone": solved(dw(rig=CASES)),
             "double_wishbone_kinematic": solved(dw(rig=CASES), True),
             "case_study": solved(tight("pseudo_mcpherson.yaml", rig=corner_cases)),
-            "twist_beam": solved(tight("twist_beam_axle.yaml", rig=corner_cases))}
+            "twist_beam": solved(tight("twist_beam_axle.yaml", rig=corner_cases)),
+            "solid_axle": solved(tight("solid_axle_panhard.yaml", rig=corner_cases))}
 
 
 def scales(table) -> tuple[float, float]:
@@ -95,7 +97,7 @@ def scales(table) -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("model", ["double_wishbone", "double_wishbone_kinematic",
-                                   "case_study", "twist_beam"])
+                                   "case_study", "twist_beam", "solid_axle"])
 def test_every_part_is_in_equilibrium_under_the_reported_loads(runs, model):
     s, sweeps = runs[model]
     cases = 0
@@ -110,7 +112,8 @@ def test_every_part_is_in_equilibrium_under_the_reported_loads(runs, model):
     assert cases >= 4
 
 
-@pytest.mark.parametrize("model", ["double_wishbone", "case_study", "twist_beam"])
+@pytest.mark.parametrize("model", ["double_wishbone", "case_study", "twist_beam",
+                                   "solid_axle"])
 def test_body_pickups_balance_the_contact_patches(runs, model):
     """The loads every ground pickup receives (connections, springs, stops, the steering
     gear) add up to the contact-patch loads at every step, force and moment."""

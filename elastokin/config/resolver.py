@@ -146,8 +146,9 @@ class Resolver:
         """The resolved name of a corner item (connection, spring, stop)."""
         return name
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        """Whether a connection between ``parts`` belongs to this corner."""
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        """Whether the connection, spring or stop ``name`` between ``parts`` belongs to this
+        corner."""
         return True
 
     def corner(self) -> CornerItems:
@@ -156,7 +157,7 @@ class Resolver:
         joints, links, bushings = [], [], []
         for name, c in s.connections.items():
             key = f"connections.{name}"
-            if not self.keep(c.parts):
+            if not self.keep(name, c.parts):
                 continue
             parts = self.parts(c.parts, key)
             if isinstance(c, LinkSpec):
@@ -229,7 +230,7 @@ class Resolver:
         springs = []
         for name, sp in self.spec.springs.items():
             key = f"springs.{name}"
-            if not self.keep(sp.parts):
+            if not self.keep(name, sp.parts):
                 continue
             parts = self.parts(sp.parts, key)
             seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
@@ -241,7 +242,7 @@ class Resolver:
         stops = []
         for name, st in self.spec.stops.items():
             key = f"stops.{name}"
-            if not self.keep(st.parts):
+            if not self.keep(name, st.parts):
                 continue
             parts = self.parts(st.parts, key)
             pts = self.point_pair(st.points, key + ".points",

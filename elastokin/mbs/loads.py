@@ -7,8 +7,10 @@ the anti-roll bar, ball-joint friction, idle-spin springs), every support and ev
 .LoadItem`): a bushing modelled by its ideal joint is that joint plus its regularising spring,
 a ball joint with friction is the joint plus its friction element, a wheel's contact patch is
 the rig's pad plus the loads at the patch and the wheel centre (attachments name their item,
-:meth:`~elastokin.mbs.model.SuspensionModel.add_support`). A flexible (beam) part's own ties
-are internal to it; a connection at one of its nodes is read at the node's recorded pose.
+:meth:`~elastokin.mbs.model.SuspensionModel.add_support`; an object added outside the config
+names it in ``SuspensionModel.load_items``; an attachment's load is on the part it holds). A
+flexible (beam) part's own ties are internal to it; a connection at one of its nodes is read
+at the node's recorded pose.
 
 What Exudyn applies (its C++ source, checked here by every part's free-body equilibrium to the
 Newton residual, ``tests/test_loads.py``):
@@ -138,7 +140,9 @@ class LoadRecorder:
             return  # between the ground and the rig's own bodies (the heave beam's holder)
         parts = tuple(m.part for m in markers)
         name, what = self._item_name(obj["name"])
-        flip = obj["name"] in self.model.supports  # a support's load: on the part it holds
+        # an attachment's load is on the part it holds (a support: its marker 1)
+        attached = obj["name"] in self.model.supports or obj["name"] in self.model.load_items
+        flip = attached and not self._moving(markers[0]) and self._moving(markers[1])
         item = self._item(name, what, parts[::-1] if flip else parts)
         params = {"constrained": obj.get("constrainedAxes"),
                   "intrinsic": bool(obj.get("useIntrinsicFormulation", False)),
@@ -165,7 +169,7 @@ class LoadRecorder:
         marker = self._marker(mbs.GetLoad(number)["markerNumber"])
         if not self._moving(marker):
             return  # on the ground or a rig body (the heave beam's load)
-        item = self._item(self._free(e.get("item", name)), e.get("item_kind", "load"),
+        item = self._item(*self._item_name(name, "load"),
                           (marker.part, model.suspension.ground))
         kind = "Load" if e["kind"] == "force" else "LoadTorque"
         self.elements.append(_Element(item, kind, number, (marker,)))
@@ -210,12 +214,16 @@ class LoadRecorder:
         """Whether the marker is on a moving part of the suspension."""
         return marker.part is not None and marker.part != self.model.suspension.ground
 
-    def _item_name(self, name: str) -> tuple[str, str]:
-        """(reported item, its kind) of an Exudyn object of this name."""
+    def _item_name(self, name: str, default: str = "support") -> tuple[str, str]:
+        """(reported item, its kind) of an Exudyn object or load of this name: an attachment
+        or an object the model registered (``model.load_items``), then by the name's
+        prefix; a support or load nothing registered: its own name, kind ``default``."""
         model = self.model
-        if name in model.supports:
-            e = model.supports[name]
-            return self._free(e.get("item", name)), e.get("item_kind", "support")
+        if name in model.load_items:
+            item, kind = model.load_items[name]
+            return self._free(item), kind
+        if name in model.supports or name in model.loads:
+            return self._free(name), default
         prefix, _, rest = name.partition(":")
         if name == "anti_roll_bar":
             return self._free("anti_roll_bar"), "anti_roll_bar"

@@ -108,6 +108,9 @@ class SuspensionModel:
         self.loads: dict[str, dict] = {}
         self.sensors: dict[str, int] = {}
         self.point_sensors: dict[str, tuple[str, np.ndarray]] = {}  # part, local position
+        #: the reported load (item, kind) of attachments and of objects added outside the
+        #: config, by their name (:mod:`elastokin.mbs.loads`; default: their own name)
+        self.load_items: dict[str, tuple[str, str]] = {}
         self._build()
         #: records every element's load (ModelOptions.record_loads), sensors added per solve
         self.load_recorder = LoadRecorder(self) if options.loads else None
@@ -337,8 +340,9 @@ class SuspensionModel:
             activeConnector=lock is not None, name=name))
         if lock is not None:
             self.locks[name] = np.asarray(lock, float)
-        self.supports[name] = {"object": obj, "part": part, "marker": m_part,
-                               **dict(zip(("item", "item_kind"), item or ()))}
+        self.supports[name] = {"object": obj, "part": part, "marker": m_part}
+        if item is not None:
+            self.load_items[name] = item
         self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
             objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
             storeInternal=True, writeToFile=False))
@@ -359,8 +363,9 @@ class SuspensionModel:
             marker = self.rigid_marker(part, np.asarray(point_mm, float), np.eye(3))
         kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
         load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
-        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind,
-                            **dict(zip(("item", "item_kind"), item or ()))}
+        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
+        if item is not None:
+            self.load_items[name] = item
         return name
 
     def add_point_sensor(self, name: str, part: str, point_mm) -> str:
