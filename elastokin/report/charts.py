@@ -281,9 +281,8 @@ def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
     ``errors``: summary.json's ``errors`` (model -> metric -> RMS), for the legends of the
     Fig. 9 charts (other RMS errors are computed from the sweeps, the same way); ``loads``:
     the largest loads per element (:func:`~elastokin.report.load_charts.load_chart_data`).
-    Where the
-    platform forks (Linux) and has two cores, a forked process draws every other chart while
-    this one draws the rest. Returns the files written, in chart order."""
+    Where the platform forks (Linux) and has two cores, a forked process draws every other
+    chart while this one draws the rest. Returns the files written, in chart order."""
     jobs = chart_jobs(sweeps, out_dir, provenance, errors, svg, axle, loads)
     _JOBS[:] = jobs
     try:
