@@ -35,6 +35,46 @@ class PartPoses:
         return T
 
 
+@dataclass(frozen=True)
+class LoadItem:
+    """An element of a model whose load is reported (:mod:`elastokin.physics.loads`): a
+    connection, spring, stop, the anti-roll bar, the steering gear, a wheel's contact patch.
+    The load acts on ``parts[0]``, its reaction on ``parts[1]``; ``kind`` says what it is
+    (``joint``, ``rack``, ``bushing``, ``link``, ``spring``, ``stop``, ``anti_roll_bar``,
+    ``steering_gear``, ``contact_patch``, ``idle_spin``, ``support``, ``load``);
+    ``two_point``: a force along the line between its two points, no moment (a link, a
+    spring, a stop); ``moments``: it may transmit a moment (not a ball joint)."""
+
+    name: str
+    kind: str
+    parts: tuple[str, str]
+    two_point: bool = False
+    moments: bool = True
+
+
+@dataclass
+class LoadTable:
+    """The loads of ``items`` at one or more steps: ``values`` (..., items, 7, 3), the
+    quantities :data:`elastokin.physics.loads.QUANTITIES` of each item (config frame; N, N*mm,
+    mm); ``ground``: the model's ground part."""
+
+    items: tuple[LoadItem, ...]
+    values: np.ndarray
+    ground: str = ""  # the model's ground part (body, subframe, rig frame)
+
+    def step(self, i: int) -> LoadTable:
+        """The table of step ``i`` (values (items, 7, 3))."""
+        return LoadTable(self.items, self.values[i], self.ground)
+
+    @classmethod
+    def stack(cls, tables: list[LoadTable]) -> LoadTable:
+        """The steps of one solve (the same items) as one table (values (n, items, 7, 3))."""
+        return cls(tables[0].items, np.stack([t.values for t in tables]), tables[0].ground)
+
+    def names(self) -> list[str]:
+        return [item.name for item in self.items]
+
+
 @dataclass
 class StateSensitivity:
     """Derivatives of one solved step with respect to n parameters (config frame): of each
@@ -58,6 +98,7 @@ class ModelState:
     attached to the model at this step (N or N*mm, config frame). ``points``: the position of
     each point sensor (mm, config frame). ``sensitivity``: derivatives with respect to model
     parameters, when the step was solved with them (:mod:`elastokin.mbs.sensitivity`).
+    ``loads``: the load every element transmits (:mod:`elastokin.mbs.loads`).
     """
 
     poses: PartPoses
@@ -70,6 +111,8 @@ class ModelState:
     sensitivity: StateSensitivity | None = None
     #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``
     scalars: dict[str, float] = field(default_factory=dict)
+    #: the load of every element (None: not recorded, ``ModelOptions.record_loads``)
+    loads: LoadTable | None = None
 
 
 @dataclass
@@ -81,7 +124,8 @@ class StepState:
     ``poses``: every moving part's pose, or None when the model records the wheel part only.
     ``sensitivity``: when solved with parameter sensitivities, the derivatives of
     ``wheel_centre_mm``, ``contact_patch_mm`` and ``spin_axis`` ((3, n) each, per unit of the
-    n parameters).
+    n parameters). ``loads``: every element's load (the whole model's, the same for each
+    wheel; None: not recorded).
     """
 
     wheel_centre_mm: np.ndarray
@@ -95,3 +139,4 @@ class StepState:
     poses: PartPoses | None = None
     sensitivity: dict[str, np.ndarray] | None = None
     scalars: dict[str, float] = field(default_factory=dict)  # see ModelState.scalars
+    loads: LoadTable | None = None  # the whole model's, see ModelState.loads

@@ -16,8 +16,10 @@ from pathlib import Path
 from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
+from elastokin.report.html_loads import loads_section
 from elastokin.report.html_motion import motion_section
 from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.load_charts import LOAD_CHART
 from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
 
@@ -31,6 +33,7 @@ SECTIONS = (
     ("characteristics", "K&C characteristics"),
     ("charts", "Charts"),
     ("axle", "Axle"),
+    ("loads", "Loads"),
     ("errors", "Errors against the test"),
     ("stiffness", "Bushing-stiffness identification"),
     ("signs", "Sign conventions"),
@@ -67,6 +70,9 @@ align-items:center;justify-content:center;cursor:zoom-out;z-index:10}
 #lightbox img{max-width:98vw;max-height:96vh;height:96vh;width:auto;object-fit:contain;
 background:#fff}
 code{font-size:92%}
+h4{margin:1em 0 0.3em 0}.wide{overflow-x:auto}
+.worst{font-weight:bold;background:#ffd9a0;padding:0 3px}
+details{margin:0.5em 0}
 """
 
 #: click a chart to see it as large as the window; click or Escape to close
@@ -295,6 +301,7 @@ def signs_section(summary: dict) -> list[str]:
     rows += [[f"{esc(channel(c).label)}", esc(CHANNELS[c].sign)] for c in SIGNED]
     rows += [["bushing deflection", esc(signs.get("bushing_*", ""))],
              ["spring force", esc(signs.get("spring_*_force_N", ""))]]
+    rows += [["loads (loads.csv)", esc(v)] for k, v in signs.items() if "loads.csv" in k]
     definitions = [[f"{esc(c.label)} [{c.unit}]", esc(c.definition)]
                    for c in CHARACTERISTIC_LIST]
     return [note("ISO 8855 / SAE J670 names; per wheel for the wheel angles. Every column of "
@@ -348,8 +355,11 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
     """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
     with_test = "test" in summary["models"]
     axle_charts = [p for p in charts if p.stem in AXLE_CHARTS]
-    charts = [p for p in charts if p.stem not in AXLE_CHARTS]
+    load_charts = [p for p in charts if p.stem == LOAD_CHART]
+    charts = [p for p in charts if p.stem not in AXLE_CHARTS and p.stem != LOAD_CHART]
     first = 1 + sum(p.suffix == ".png" for p in charts)
+    after_axle = first + sum(p.suffix == ".png" for p in axle_charts)
+    loads = any(m.get("loads") for m in summary["models"].values())
     parts = {"summary": summary_section(summary),
              "warnings": warnings_section(summary) if summary.get("warnings") else None,
              "identification": (identification_section(identification)
@@ -362,6 +372,7 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
                         if charts else None),
              "axle": (axle_section(summary, axle_charts, first) if summary.get("axle")
                       else None),
+             "loads": loads_section(summary, load_charts, after_axle) if loads else None,
              "errors": errors_section(summary) if summary.get("errors") else None,
              "stiffness": (stiffness_section(summary["stiffness_identification"])
                            if summary.get("stiffness_identification") else None),

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from elastokin.physics.states import LoadTable
+
 
 @dataclass
 class Sweep:
@@ -25,6 +27,9 @@ class Sweep:
     tangents: dict[str, np.ndarray] = field(default_factory=dict)
     #: the wheel's side ("": the config's own side, e.g. test data of a corner)
     side: str = ""
+    #: the load of every element of the model at every step (the whole model's: carried by
+    #: the config side's sweep only; None: not recorded, test data, results read back)
+    loads: LoadTable | None = None
 
     def stroke(self, name: str) -> np.ndarray:
         return self.columns[name][self.columns["branch"] == "stroke"]

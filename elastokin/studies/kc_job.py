@@ -394,7 +394,7 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
-    check_rig(suspension)  # a load case given that cannot run: a warning
+    check_rig(suspension)  # a case that cannot run: a warning; that cannot be built: an error
     check_fit_on_corner(suspension)
     if test and fits_stiffness(suspension) and (models is None
                                                 or "identified_stiffness" in models):
