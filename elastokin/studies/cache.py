@@ -18,7 +18,7 @@ from pathlib import Path
 from elastokin.version import __version__, exudyn_version
 
 #: bumped when what an entry holds changes
-CACHE_FORMAT = 4
+CACHE_FORMAT = 5
 
 
 class CacheWarning(UserWarning):
