@@ -244,6 +244,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
+    from elastokin.report.view3d import run_views, view_fragment
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
@@ -261,7 +262,10 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     files += [p.name for p in charts] + ["report.html"]
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts, ident)
+    views, overlay = run_views(run)
+    view = (view_fragment(views, overlay), overlay.factor if overlay else None) if views \
+        else None
+    write_report(folder / "report.html", summary, charts, ident, view)
     return summary
 
 

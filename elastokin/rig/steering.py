@@ -35,9 +35,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     springs locked."""
     s = suspension
     wheel = s.wheel.part
-    elements: list[SkeletonElement] = []
-    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
-    racks = [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+    racks = _rack_joints(s)
     steer_links = [lk for lk in s.links if wheel in lk.parts]
     reason = None
     if racks:
@@ -56,6 +54,36 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     if not s.springs:
         reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
                             "computed with the springs locked)")
+    elements = skeleton_elements(s, True, released_links, springs_released=False)
+    elements, eliminated = eliminate_links(elements, s.ground, wheel)
+    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
+                            tuple(eliminated))
+
+
+def travel_skeleton(suspension: Suspension) -> SteeringSkeleton:
+    """Constraint skeleton of ``suspension`` for the wheel's travel: the springs' lengths
+    released (the input), the steering held (rack and tie rods); its screw axis gives the
+    front-view instant centre (:mod:`elastokin.rig.scene_motion`)."""
+    s = suspension
+    reason = None if s.springs else "no spring: the wheel's travel input is not defined"
+    elements = skeleton_elements(s, False, set(), springs_released=True)
+    elements, eliminated = eliminate_links(elements, s.ground, s.wheel.part)
+    return SteeringSkeleton(s.ground, s.wheel.part, tuple(elements), "spring lengths", reason,
+                            tuple(eliminated))
+
+
+def _rack_joints(s: Suspension) -> list:
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    return [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+
+
+def skeleton_elements(s: Suspension, rack_released: bool, released_links: set[str],
+                      springs_released: bool) -> list[SkeletonElement]:
+    """Every joint, bushing (its ideal joint), link and spring of ``s`` as a skeleton
+    element: a rack's travel released or held (``rack_released``), the links named in
+    ``released_links`` released, the springs' lengths released or locked."""
+    racks = {j.name for j in _rack_joints(s)}
+    elements: list[SkeletonElement] = []
     for j in s.joints:
         flags = list(j.constrained)
         shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
@@ -63,22 +91,21 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
         frame = np.asarray(j.frame, float)
         points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
                   j.position_mm + shift1)
-        if j.kind == "rack" or j.name == axle_rack:
+        if j.name in racks:
             flags[2] = 0  # the rack moves along its axis (the joint frame's z)
             elements.append(SkeletonElement("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
-                                     released=True))
+                                            released=rack_released))
         elements.append(SkeletonElement("joint", j.parts, points, frame, tuple(flags)))
     for b in s.bushings:
         elements.append(SkeletonElement("joint", b.parts, (b.position_mm, b.position_mm),
-                                 np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
+                                        np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
     for lk in s.links:
         elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
-                                 released=lk.name in released_links))
-    for sp in s.springs:  # locked: the travel is held
-        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm, spring=True))
-    elements, eliminated = eliminate_links(elements, s.ground, wheel)
-    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
-                            tuple(eliminated))
+                                        released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held; released: the travel's input
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm,
+                                        released=springs_released, spring=not springs_released))
+    return elements
 
 
 class SteeringAxisWarning(UserWarning):
