@@ -1,12 +1,14 @@
 """Headless Chromium driven through the DevTools protocol over a pipe (``--remote-debugging-
 pipe``: messages are JSON, each ended by a NUL byte, read from fd 3 and written to fd 4 of the
-browser; no port, no driver, no extra package). Used by the browser tests of the 3D view and
+browser; no port, no driver, no extra package; every other descriptor of ours is close-on-exec,
+as Python makes them). Used by the browser tests of the 3D view and
 by ``benchmarks/bench_view.py``: open a page (optionally with the network cut), run script in
 it, take screenshots, and collect every error the page logs and every request it makes."""
 
 from __future__ import annotations
 
 import base64
+import fcntl
 import io
 import json
 import os
@@ -39,14 +41,23 @@ class Browser:
             raise RuntimeError("headless Chromium is not installed")
         self.timeout = timeout_s
         self.profile = tempfile.mkdtemp(prefix="elastokin-chromium-")
-        to_browser, self._write = os.pipe()
-        self._read, from_browser = os.pipe()
-        shell = f'exec "$0" "$@" 3<&{to_browser} 4>&{from_browser}'
+        ends = os.pipe() + os.pipe()  # (to the browser, ours), (ours, from the browser)
+        # above 4, so that moving them to 3 and 4 in the child cannot overwrite one
+        to_browser, self._write, self._read, from_browser = (
+            fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10) for fd in ends)
+        for fd in ends:
+            os.close(fd)
+
+        def pipes_at_3_and_4() -> None:  # in the child, before exec
+            os.dup2(to_browser, 3)
+            os.dup2(from_browser, 4)
+
+        self.log = tempfile.TemporaryFile()
         self.proc = subprocess.Popen(
-            ["sh", "-c", shell, path, *FLAGS, f"--user-data-dir={self.profile}",
-             "--remote-debugging-pipe", f"--window-size={width},{height}", "about:blank"],
-            pass_fds=(to_browser, from_browser), stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            [path, *FLAGS, f"--user-data-dir={self.profile}", "--remote-debugging-pipe",
+             f"--window-size={width},{height}", "about:blank"],
+            preexec_fn=pipes_at_3_and_4, close_fds=False, stdin=subprocess.DEVNULL,
+            stdout=self.log, stderr=self.log)
         os.close(to_browser)
         os.close(from_browser)
         self._id = 0
@@ -175,6 +186,7 @@ class Browser:
             self.proc.kill()
             self.proc.wait()
         os.close(self._write)
+        self.log.close()
         shutil.rmtree(self.profile, ignore_errors=True)
 
     def __enter__(self) -> Browser:

@@ -116,7 +116,7 @@ def axle_page(axle_results) -> Page:
 
 
 def test_a_section_per_stage_in_order(page):
-    assert [s[0] for s in page.sections] == ["summary", "warnings", "identification",
+    assert [s[0] for s in page.sections] == ["summary", "warnings", "view", "identification",
                                              "static", "characteristics", "charts", "axle",
                                              "errors", "signs", "provenance"]
     for number, (key, heading) in enumerate(page.sections, start=1):
@@ -183,8 +183,9 @@ def _rows(page: Page) -> dict[str, list[str]]:
 
 def test_axle_section_of_the_double_wishbone_axle(axle_page, axle_results):
     summary = json.loads((axle_results / "summary.json").read_text())
-    assert [s[0] for s in axle_page.sections] == ["summary", "static", "characteristics",
-                                                  "charts", "axle", "signs", "provenance"]
+    assert [s[0] for s in axle_page.sections] == ["summary", "view", "static",
+                                                  "characteristics", "charts", "axle", "signs",
+                                                  "provenance"]
     axle = summary["axle"]
     assert (axle["config_side"], axle["wheelbase_mm"], axle["track_mm"]) == (
         "left", 3378.0, pytest.approx(1820.0))

@@ -16,11 +16,12 @@
             z * x * v - y * s, z * y * v + x * s, c + z * z * v];
   }
 
-  function View(gd, data, prefix) {
+  function View(gd, figure, data, prefix) {
     this.gd = gd;
+    this.figure = figure;
     this.V = data;
     this.prefix = prefix;
-    this.base = gd.data.map(function (t) {
+    this.base = figure.data.map(function (t) {
       return {x: (t.x || []).slice(), y: (t.y || []).slice(), z: (t.z || []).slice()};
     });
     this.model = data.order[0];
@@ -115,12 +116,13 @@
     return [xs, ys, zs];
   }
 
-  View.prototype.draw = function () {
-    var self = this, V = this.V, gd = this.gd, T = {}, cmax = V.bushing_cmax;
+  /* the traces at the current frame (the figure's data, changed in place) */
+  View.prototype.update = function () {
+    var self = this, V = this.V, data = this.figure.data, T = {}, cmax = V.bushing_cmax;
     var c = this.caseData(this.model), f = Math.min(this.frame, c.steps.length - 1);
     V.recipes.forEach(function (recipe, k) {
       if (!recipe) { return; }
-      var t = gd.data[k];
+      var t = data[k];
       if (t.visible === undefined) { t.visible = true; }
       if (!recipe.ghost) {
         if (recipe.model !== self.model) { t.visible = false; return; }
@@ -147,11 +149,15 @@
       }
     });
     V.ident.forEach(function (k) {
-      gd.data[k].visible = self.caseName === "design_position" ? true : "legendonly";
+      data[k].visible = self.caseName === "design_position" ? true : "legendonly";
     });
-    gd.layout.datarevision = ++this.rev;
-    Plotly.react(gd, gd.data, gd.layout);
     this.info(c, f);
+  };
+
+  View.prototype.draw = function () {
+    this.update();
+    this.figure.layout.datarevision = ++this.rev;
+    Plotly.react(this.gd, this.figure.data, this.figure.layout, this.figure.config);
   };
 
   View.prototype.info = function (c, f) {
@@ -175,7 +181,7 @@
     this.el("info").textContent = parts.join(" \u00b7 ");
   };
 
-  View.prototype.setCase = function (name) {
+  View.prototype.setCase = function (name, first) {
     this.caseName = name;
     var c = this.caseData(this.model), slider = this.el("slider");
     slider.max = String(c.steps.length - 1);
@@ -184,10 +190,10 @@
     slider.value = String(this.frame);
     slider.disabled = c.steps.length < 2;
     this.el("play").disabled = c.steps.length < 2;
-    this.draw();
+    if (first) { this.update(); } else { this.draw(); }
   };
 
-  View.prototype.fillCases = function () {
+  View.prototype.fillCases = function (first) {
     var sel = this.el("case"), self = this, cases = this.V.models[this.model].cases;
     sel.innerHTML = "";
     cases.forEach(function (name) {
@@ -197,7 +203,7 @@
     });
     if (cases.indexOf(this.caseName) < 0) { this.caseName = cases[0]; }
     sel.value = this.caseName;
-    self.setCase(this.caseName);
+    self.setCase(this.caseName, first);
   };
 
   View.prototype.play = function () {
@@ -213,7 +219,7 @@
   };
 
   View.prototype.start = function () {
-    var self = this, models = this.el("model");
+    var self = this, models = this.el("model"), gd = this.gd;
     this.V.order.forEach(function (m) {
       var o = document.createElement("option"); o.value = m; o.textContent = m; models.appendChild(o);
     });
@@ -221,16 +227,24 @@
     this.el("case").addEventListener("change", function () { self.setCase(self.el("case").value); });
     this.el("slider").addEventListener("input", function () { self.frame = Number(self.el("slider").value); self.draw(); });
     this.el("play").addEventListener("click", function () { self.play(); });
-    this.gd.on("plotly_legendclick", function () { setTimeout(function () { self.draw(); }, 0); });
-    this.fillCases();
-    this.gd.setAttribute("data-ready", "1");
+    this.fillCases(true);  /* the first frame, drawn once by newPlot */
+    var fig = this.figure;
+    return Plotly.newPlot(gd, fig.data, fig.layout, fig.config).then(function () {
+      fig.data = gd.data;
+      fig.layout = gd.layout;
+      gd.on("plotly_legendclick", function () { setTimeout(function () { self.draw(); }, 0); });
+      gd.setAttribute("data-ready", "1");
+    });
   };
 
-  window.elastokinView = function (plotId, prefix) {
-    var gd = document.getElementById(plotId);
+  /* the view of the figure and data in the page's script elements <prefix>-figure and
+     <prefix>-data, drawn into the element <prefix>-plot */
+  window.elastokinView = function (prefix) {
+    var gd = document.getElementById(prefix + "-plot");
+    var figure = JSON.parse(document.getElementById(prefix + "-figure").textContent);
     var data = JSON.parse(document.getElementById(prefix + "-data").textContent);
-    var view = new View(gd, data, prefix);
+    var view = new View(gd, figure, data, prefix);
     gd.elastokinView = view;
-    view.start();
+    return view.start();
   };
 })();

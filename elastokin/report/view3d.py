@@ -35,6 +35,7 @@ from elastokin.rig.scene_motion import SceneFrames
 MODEL_COLOURS = {"initial": "#1f77b4", "identified": "#d62728", "identified_stiffness": "#2ca02c",
                  "initial_kinematic": "#6baed6", "identified_kinematic": "#fc9272",
                  "design": "#1f77b4"}
+PLOT_HEIGHT_PX = 680
 #: room around the parts in the view (mm)
 MARGIN_MM = 120.0
 DESIGN_NOTE = "the hardpoints as given (nothing solved); bushings at their initial deflection"
@@ -186,7 +187,8 @@ def build_view(models: list[ModelView], overlay=None, prefix: str = "ekv") -> tu
                                         "range": [float(lo[i]), float(hi[i])]}
                            for i, (a, n) in enumerate(zip("xyz", names))},
                         "camera": _camera_buttons(first)[0]["args"][0]["scene.camera"]},
-              "uirevision": "keep", "height": 680, "margin": {"l": 0, "r": 0, "t": 10, "b": 0},
+              "uirevision": "keep", "height": PLOT_HEIGHT_PX,
+              "margin": {"l": 0, "r": 0, "t": 10, "b": 0},
               "legend": {"itemsizing": "constant", "groupclick": "togglegroup",
                          "font": {"size": 11}, "x": 0.81, "xanchor": "left", "y": 1.0},
               "updatemenus": [{"type": "buttons", "direction": "right", "x": 0.0, "y": 1.0,
@@ -200,29 +202,36 @@ _CSS = """.ekv-controls{display:flex;flex-wrap:wrap;gap:0.6em;align-items:center
 min-height:2.6em}.ekv-errors{color:#b00000}"""
 
 
+def _json_script(element_id: str, value) -> str:
+    text = json.dumps(value, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    return f'<script type="application/json" id="{element_id}">{text}</script>'
+
+
 def view_fragment(models: list[ModelView], overlay=None, include_plotlyjs: bool = True,
                   prefix: str = "ekv") -> str:
-    """The view as an HTML fragment: controls, the plot (plotly.js embedded when
-    ``include_plotlyjs``), the frame's description, the data and the script."""
-    import plotly.io as pio
+    """The view as an HTML fragment: controls, the frame's description, the plot (plotly.js
+    embedded when ``include_plotlyjs``), the figure and the data, and the script that draws
+    the first frame (one plotly.newPlot) and moves it."""
+    import plotly.graph_objects as go
+    from plotly.offline import get_plotlyjs
 
     figure, payload = build_view(models, overlay, prefix)
+    go.Figure(figure)  # validated: a wrong property name fails here, not in the browser
+    figure["config"] = {"displaylogo": False, "responsive": True,
+                        "toImageButtonOptions": {"format": "png", "scale": 2}}
     script = resources.files("elastokin.report").joinpath("view3d.js").read_text("utf-8")
-    data = json.dumps(payload, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
-    plot = pio.to_html(figure, include_plotlyjs=include_plotlyjs, full_html=False,
-                       div_id=f"{prefix}-plot", validate=True,
-                       post_script=f"elastokinView('{{plot_id}}', '{prefix}');",
-                       config={"displaylogo": False, "responsive": True,
-                               "toImageButtonOptions": {"format": "png", "scale": 2}})
+    library = f"<script>{get_plotlyjs()}</script>" if include_plotlyjs else ""
     controls = (f'<div class="ekv-controls"><label>model <select id="{prefix}-model">'
                 f'</select></label><label>load case <select id="{prefix}-case"></select>'
                 f'</label><button type="button" id="{prefix}-play">\u25b6 play</button>'
                 f'<input type="range" id="{prefix}-slider" min="0" max="0" value="0" '
                 f'aria-label="frame"></div>')
     return (f"<style>{_CSS}</style>{controls}"
-            f'<script type="application/json" id="{prefix}-data">{data}</script>'
-            f'<script>{script}</script><div class="ekv-info" id="{prefix}-info"></div>'
-            f"{plot}")
+            f'<div class="ekv-info" id="{prefix}-info"></div>'
+            f'<div id="{prefix}-plot" class="ekv-plot" style="height:{PLOT_HEIGHT_PX}px"></div>'
+            f"{_json_script(f'{prefix}-figure', figure)}{_json_script(f'{prefix}-data', payload)}"
+            f"{library}<script>{script}</script>"
+            f"<script>elastokinView('{prefix}');</script>")
 
 
 def write_view_page(path: Path, title: str, models: list[ModelView], errors: list[str],

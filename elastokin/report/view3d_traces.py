@@ -70,33 +70,40 @@ def _rigid(scene: Scene, segments: list[tuple[str, np.ndarray]]) -> tuple[dict, 
 
 
 def part_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
-    """Each part's sticks and points (its hover names the points) and its hull."""
-    out = []
+    """Each part's sticks and points (its hover names the points) and its hull: one trace
+    of each for a part and its copy on an axle's other side (one colour, one legend entry)."""
+    families: dict[str, list] = {}
     for p in scene.parts:
-        if not len(p.points_mm):
-            continue
-        segs = [p.points_mm[[i, j]] for i, j in p.edges] or [p.points_mm]
-        xyz, carriers = _rigid(scene, [(p.name, s) for s in segs])
-        text = [x for i, j in p.edges for x in (f"{p.name}: {p.labels[i]}",
-                                                  f"{p.name}: {p.labels[j]}", "")] \
-            if p.edges else [f"{p.name}: {lab}" for lab in p.labels] + [""]
-        base = p.name.removesuffix(scene_suffix(scene, p.name))
-        out.append(t.add({"type": "scatter3d", "mode": "lines+markers", **xyz,
-                          "name": base, "legendgroup": f"{group}:{base}",
-                          "showlegend": base == p.name, "text": text,
+        if len(p.points_mm):
+            families.setdefault(p.name.removesuffix(scene_suffix(scene, p.name)), []).append(p)
+    out = []
+    for base, parts in families.items():
+        segs, text = [], []
+        for p in parts:
+            for i, j in p.edges or [(k, k) for k in range(len(p.points_mm))]:
+                segs.append((p.name, p.points_mm[[i, j]]))
+                text += [f"{p.name}: {p.labels[i]}", f"{p.name}: {p.labels[j]}", ""]
+        xyz, carriers = _rigid(scene, segs)
+        colour = parts[0].colour
+        out.append(t.add({"type": "scatter3d", "mode": "lines+markers", **xyz, "name": base,
+                          "legendgroup": f"{group}:{base}", "text": text,
                           "hovertemplate": "%{text}<extra></extra>",
-                          "line": {"color": p.colour, "width": 7},
-                          "marker": {"color": p.colour, "size": 3}},
+                          "line": {"color": colour, "width": 7},
+                          "marker": {"color": colour, "size": 3}},
                          {"kind": "rigid", "model": model, "carriers": carriers}))
-        if p.triangles:
-            i, j, k = (list(c) for c in zip(*p.triangles))
-            x, y, z = (p.points_mm[:, a].tolist() for a in range(3))
-            out.append(t.add({"type": "mesh3d", "x": x, "y": y, "z": z, "i": i, "j": j,
-                              "k": k, "color": p.colour, "opacity": 0.25, "name": base,
-                              "legendgroup": f"{group}:{base}", "showlegend": False,
-                              "hovertemplate": f"{p.name}<extra></extra>", "flatshading": True},
-                             {"kind": "rigid", "model": model,
-                              "carriers": [_carrier(scene, p.name)] * len(x)}))
+        hulls = [p for p in parts if p.triangles]
+        if not hulls:
+            continue
+        pts = np.concatenate([p.points_mm for p in hulls])
+        offsets = np.cumsum([0] + [len(p.points_mm) for p in hulls])
+        tri = np.concatenate([np.array(p.triangles) + o for p, o in zip(hulls, offsets)])
+        out.append(t.add({"type": "mesh3d", **{a: pts[:, k].tolist() for k, a in enumerate("xyz")},
+                          **{a: tri[:, k].tolist() for k, a in enumerate("ijk")},
+                          "color": colour, "opacity": 0.25, "name": base,
+                          "legendgroup": f"{group}:{base}", "showlegend": False,
+                          "hovertemplate": f"{base}<extra></extra>", "flatshading": True},
+                         {"kind": "rigid", "model": model, "carriers": [
+                             _carrier(scene, p.name) for p in hulls for _ in p.points_mm]}))
     return out
 
 
@@ -177,6 +184,7 @@ def bushing_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]
     if not bushings:
         return []
     marker = {"size": 9, "color": [0.0] * len(bushings), "colorscale": DEFLECTION_SCALE,
+              "reversescale": True,  # plotly's YlOrRd runs from red to yellow
               "cmin": 0.0, "cmax": 1.0, "line": {"color": "#222", "width": 1},
               "colorbar": {"title": {"text": "bushing deflection [mm]", "side": "top"},
                            "orientation": "h", "len": 0.3, "x": 0.02, "xanchor": "left",
