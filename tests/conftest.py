@@ -9,6 +9,22 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "configs" / "pseudo_mcpherson.yaml"
 
 
+@pytest.fixture(scope="session", autouse=True)
+def user_cache_home(tmp_path_factory) -> Path:
+    """The tests' own XDG_CACHE_HOME (inherited by the elastokin processes they start): the
+    result cache's secret key is made there, never in the real home's ~/.cache."""
+    import os
+
+    home = tmp_path_factory.mktemp("xdg_cache")
+    before = os.environ.get("XDG_CACHE_HOME")
+    os.environ["XDG_CACHE_HOME"] = str(home)
+    yield home
+    if before is None:
+        del os.environ["XDG_CACHE_HOME"]
+    else:
+        os.environ["XDG_CACHE_HOME"] = before
+
+
 @pytest.fixture(scope="session")
 def case_path() -> Path:
     return CASE

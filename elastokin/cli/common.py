@@ -1,11 +1,11 @@
 """What every command shares: the one-line error exit, the output checked before any
-computation and replaced only when a run succeeded, the Python warnings of a run as one line
-each, and the ``--rig`` option."""
+computation and replaced only when a run succeeded (its staging folders and move lock:
+:mod:`elastokin.cli.staging`), the Python warnings of a run as one line each, and the
+``--rig`` option."""
 
 from __future__ import annotations
 
 import errno
-import hashlib
 import os
 import shutil
 import sys
@@ -16,6 +16,7 @@ from pathlib import Path
 
 import click
 
+from elastokin.cli.staging import OWNER, claim, move_lock, release, remove_stale
 from elastokin.errors import ElastokinError
 
 
@@ -55,18 +56,27 @@ def check_writable(path: Path, option: str = "--out") -> None:
 
 
 class Output:
-    """Write results into a temporary folder beside ``out`` and move it into place only when
+    """Write results into a staging folder beside ``out`` and move it into place only when
     everything succeeded: a failed run leaves no partial results and the previous ones
-    untouched. :meth:`check` refuses an unusable ``out`` before any computation."""
+    untouched; a killed run's staging folder is removed by the next run into ``out``
+    (:mod:`elastokin.cli.staging`). :meth:`check` refuses an unusable ``out`` before any
+    computation."""
 
     def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
-        self.out = out
+        self.out = out  # as given: named in messages
+        # a link the user gave: the results replace the folder it points to, not the link
+        self.target = Path(os.path.realpath(out)) if out.is_symlink() else out
         self.marker = marker  # a file that says the folder holds elastokin results
         self.option = option
+        self.owner: int | None = None  # the staging folder's locked owner file
 
     def check(self) -> None:
         """Not a file, not a foreign non-empty folder, and its folder writable."""
         out, opt = self.out, self.option
+        if Path.cwd().is_relative_to(os.path.realpath(out)):
+            raise ElastokinError(f"{opt} {out}: the current folder or one above it, which a "
+                                 "run would replace as a whole; name a folder inside it, e.g. "
+                                 f"{out / 'results'}")
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"{opt} {out}: exists and is not a folder")
         if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
@@ -75,62 +85,65 @@ class Output:
         check_writable(out, opt)
 
     def __enter__(self) -> Path:
-        with move_lock(self.out):  # not while another run moves its results in
-            self.check()
-        out = self.out
+        self.check()
+        out = self.target
         try:
             out.parent.mkdir(parents=True, exist_ok=True)
-            self.tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+            with move_lock(out):  # not while another run moves its results in
+                self.check()
+                remove_stale(out)  # staging folders of runs that ended
+                self.tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+                self.owner = claim(self.tmp, out)
             self.tmp.chmod(0o755)
         except OSError as exc:
-            raise cannot_write(self.option, out, exc.strerror or str(exc)) from exc
+            raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            self._finish(exc_type, exc)
+        finally:
+            release(self.owner)
+
+    def _finish(self, exc_type, exc) -> None:
         if exc_type is not None:
             shutil.rmtree(self.tmp, ignore_errors=True)
             if isinstance(exc, OSError) and isinstance(exc.filename, str) and \
                     Path(exc.filename).is_relative_to(self.tmp):
                 raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
             return
+        old, old_owner = None, None
         try:
-            with move_lock(self.out):
-                old = self._move_into_place()
+            with move_lock(self.target):
+                (self.tmp / OWNER).unlink(missing_ok=True)  # not into the results
+                old, old_owner = self._move_into_place()
         except OSError as exc:
             shutil.rmtree(self.tmp, ignore_errors=True)
             raise cannot_write(self.option, self.out, exc.strerror or str(exc)) from exc
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
+            release(old_owner)
 
-    def _move_into_place(self) -> Path | None:
-        """Move the earlier results aside (returns the folder they are in: None without) and
-        the new ones into place; when the new cannot move in, the earlier ones move back
-        (their folder kept if even that fails, so that they are never lost)."""
-        old = None
+    def _move_into_place(self) -> tuple[Path | None, int | None]:
+        """Move the earlier results aside (returns the folder they are in, None without, and
+        its owner file) and the new ones into place; when the new cannot move in, the earlier
+        ones move back (their folder kept if even that fails, so that they are never lost)."""
+        old, owner = None, None
         try:
-            if self.out.exists():
-                old = Path(tempfile.mkdtemp(prefix=f".{self.out.name}.old.",
-                                            dir=self.out.parent))
-                self.out.rename(old / "previous")
-            self.tmp.rename(self.out)
+            if self.target.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.old.",
+                                            dir=self.target.parent))
+                owner = claim(old, self.target)
+                self.target.rename(old / "previous")
+            self.tmp.rename(self.target)
         except OSError:
             if old is not None:
                 if (old / "previous").exists():
-                    (old / "previous").rename(self.out)
+                    (old / "previous").rename(self.target)
                 shutil.rmtree(old, ignore_errors=True)  # empty: the earlier results are back
+            release(owner)
             raise
-        return old
-
-
-def move_lock(out: Path):
-    """The lock every elastokin process on this machine takes to move results into ``out``
-    (a file in the temporary folder named by the folder's absolute path): two runs finishing
-    at once into one folder replace it one after the other, not into each other."""
-    from filelock import FileLock  # imported by the commands that write, not by --help
-
-    key = hashlib.sha256(os.path.abspath(out).encode()).hexdigest()[:16]
-    return FileLock(Path(tempfile.gettempdir()) / f"elastokin-results-{key}.lock", timeout=600,
-                    poll_interval=0.01)
+        return old, owner
 
 
 def _one_line(message) -> str:
