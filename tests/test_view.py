@@ -314,3 +314,54 @@ def test_benchmark_quick_mode(tmp_path):
         assert report["load"]["median_s"] > 0 and report["load"]["page_errors"] == []
     assert r["poses"]["with_poses_s"] > 0 and r["poses"]["ratio"] > 0
     assert list(r["view"]) == ["double_wishbone_axle"]
+
+
+def test_the_figure_is_valid_plotly():
+    """Every trace and layout property of a view (with an identification overlay) is one
+    plotly knows: the page is built without plotly's validation (it costs a quarter of a
+    second), so it is checked here."""
+    import plotly.graph_objects as go
+
+    from elastokin.report.view3d import build_view, model_view
+    from elastokin.studies.view import load_case_sweeps
+
+    s = load_suspension_with_rig(CORNER, TRAVEL)
+    travel = {"parallel_travel": load_case_sweeps(s, "parallel_travel")}
+    views = [model_view("initial", s, travel), model_view("identified", s, {})]
+    figure, data = build_view(views, case_overlay())
+    go.Figure(figure)  # raises on an unknown property
+    assert data["order"] == ["initial", "identified"] and len(data["ident"]) == 3
+    assert len(data["recipes"]) == len(figure["data"])
+
+
+def case_overlay():
+    from elastokin.identification.geometric import identify
+    from elastokin.identification.overlay import identification_overlay
+
+    return identification_overlay(identify(load_suspension(ROOT / "configs" /
+                                                           "pseudo_mcpherson.yaml")))
+
+
+def test_identification_overlay_against_the_pose_fit():
+    """The marks drawn (measured, in the vehicle frame through the ground part's pose, and
+    fitted) are as far apart as the pose fit says (its RMS residual, in the CMM frame: a
+    rigid change of frame keeps distances); the knuckle's dropped mark has no measured
+    point; the shifts are the identification's."""
+    from elastokin.identification.geometric import identify
+
+    ident = identify(load_suspension(ROOT / "configs" / "pseudo_mcpherson.yaml"))
+    o = case_overlay()
+    assert len(o.mark_labels) == 4 * len(ident.poses)
+    gap = np.linalg.norm(o.measured_mm - o.fitted_mm, axis=1)
+    for k, (part, pose) in enumerate(ident.poses.items()):
+        mine = gap[4 * k:4 * k + 4]
+        assert o.mark_labels[4 * k].startswith(part)
+        kept = mine[np.isfinite(mine)]
+        np.testing.assert_allclose(np.sqrt(np.mean(kept ** 2)), pose.match.residual_rms_mm,
+                                   rtol=1e-9)
+    assert np.isnan(gap).sum() == 1 and "knuckle M2" in o.mark_labels[int(np.flatnonzero(
+        np.isnan(gap))[0])]
+    shifts = np.linalg.norm(o.identified_mm - o.initial_mm, axis=1)
+    assert o.factor * shifts.max() <= 60.0 < 2.5 * o.factor * shifts.max()
+    assert o.beyond_clearance == tuple(j.exceeds_clearance for j in ident.joints.values())
+    assert o.joint_names == tuple(ident.joints) and any(o.beyond_clearance)

@@ -54,7 +54,13 @@ class ModelView:
 def _flat(values, digits: int) -> list:
     """Numbers rounded for the page; None where not finite (JSON has no NaN)."""
     a = np.round(np.asarray(values, float).ravel(), digits)
-    return [None if not np.isfinite(v) else (int(v) if digits <= 0 else float(v)) for v in a]
+    finite = np.isfinite(a)
+    if finite.all():
+        return a.astype(np.int64).tolist() if digits <= 0 else a.tolist()
+    out = a.tolist()
+    for k in np.flatnonzero(~finite):
+        out[k] = None
+    return out
 
 
 def _references(scene: Scene) -> np.ndarray:
@@ -212,11 +218,9 @@ def view_fragment(models: list[ModelView], overlay=None, include_plotlyjs: bool 
     """The view as an HTML fragment: controls, the frame's description, the plot (plotly.js
     embedded when ``include_plotlyjs``), the figure and the data, and the script that draws
     the first frame (one plotly.newPlot) and moves it."""
-    import plotly.graph_objects as go
     from plotly.offline import get_plotlyjs
 
-    figure, payload = build_view(models, overlay, prefix)
-    go.Figure(figure)  # validated: a wrong property name fails here, not in the browser
+    figure, payload = build_view(models, overlay, prefix)  # tests validate it with plotly
     figure["config"] = {"displaylogo": False, "responsive": True,
                         "toImageButtonOptions": {"format": "png", "scale": 2}}
     script = resources.files("elastokin.report").joinpath("view3d.js").read_text("utf-8")

@@ -88,12 +88,6 @@ def _pose_list(poses: PoseSeries, steps: np.ndarray) -> list[PartPoses]:
     return [poses.at(int(i)) for i in steps]
 
 
-def _transforms(poses: list[PartPoses], parts) -> tuple[dict, dict]:
-    rotation, translation = {}, {}
-    for p in parts:
-        T = np.array([pp.transform(p) for pp in poses])
-        rotation[p], translation[p] = T[:, :3, :3], T[:, :3, 3]
-    return rotation, translation
 
 
 def kinematics(s: Suspension, poses: list[PartPoses], frames: SceneFrames) -> None:
@@ -136,8 +130,12 @@ def kinematics(s: Suspension, poses: list[PartPoses], frames: SceneFrames) -> No
 
 
 def _wheel_transform(poses: list[PartPoses], part: str) -> tuple[np.ndarray, np.ndarray]:
-    T = np.array([p.transform(part) for p in poses])
-    return T[:, :3, :3], T[:, :3, 3]
+    if part not in poses[0].rotation:
+        return np.broadcast_to(np.eye(3), (len(poses), 3, 3)), np.zeros((len(poses), 3))
+    R = np.array([p.rotation[part] for p in poses])
+    ref = poses[0].reference_mm[part]
+    t = ref + np.array([p.displacement_mm[part] for p in poses]) - R @ ref
+    return R, t
 
 
 def _column(sweeps: list[Sweep], name: str, steps: np.ndarray) -> np.ndarray | None:
@@ -172,7 +170,9 @@ def sweep_frames(s: Suspension, scene: Scene, sweeps: list[Sweep],
     poses = _pose_list(first.poses, steps)
     frames = SceneFrames(first.model, first.load_case, steps, first.steps)
     _rig_columns(sweeps, frames)
-    frames.rotation, frames.translation_mm = _transforms(poses, scene.part_names)
+    for p in scene.part_names:
+        R, t = first.poses.transforms(p, steps)
+        frames.rotation[p], frames.translation_mm[p] = np.array(R), t
     for b in s.bushings:
         cols = [_column(sweeps, c, steps) for c in bushing_columns(b.name)]
         if all(c is not None for c in cols):
