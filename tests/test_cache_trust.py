@@ -111,7 +111,7 @@ def test_a_genuine_entry_round_trips_and_another_inputs_entry_is_silently_stale(
     genuine = _genuine(tmp_path, "models", "k1", {"toe": [0.1, 0.2]})
     (tmp_path / ".cache").mkdir()
     (tmp_path / ".cache" / "models.pkl").write_bytes(genuine)
-    assert genuine.startswith(MAGIC + b" 5 models k1 ")
+    assert genuine.startswith(MAGIC + f" {CACHE_FORMAT} models k1 ".encode())
     cache = ResultCache(tmp_path / ".cache", None)
     with _no_warning():
         assert cache.get("models", "k2") is None  # inputs changed: no warning

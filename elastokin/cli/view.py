@@ -15,7 +15,8 @@ from elastokin.errors import ElastokinError
 
 
 @click.command()
-@click.argument("config_path", metavar="CONFIG", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("config_path", metavar="CONFIG",
+                type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--out", "out_path", type=click.Path(dir_okay=False, path_type=Path),
               metavar="FILE", default=None, show_default="results/<config name>.view.html",
               help="The page to write (HTML, self-contained: opens without a network).")

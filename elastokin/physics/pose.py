@@ -100,11 +100,6 @@ class MarkMatch:
     local_mm: np.ndarray | None = None
     measured_mm: np.ndarray | None = None
 
-    @property
-    def fitted_mm(self) -> np.ndarray | None:
-        """The local marks where the fitted pose puts them (measurement frame)."""
-        return None if self.local_mm is None else self.local_mm @ self.R.T + self.t
-
 
 def _passing(local: np.ndarray, measured: np.ndarray, marks: tuple[int, ...], eps: float):
     """Assignments of ``marks`` (local indices) to distinct measured points whose distance

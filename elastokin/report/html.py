@@ -267,12 +267,12 @@ def view_section(fragment: str, factor: float | None) -> list[str]:
                  "the view, scroll to zoom, or pick a view (3D, front, side, top); click a "
                  "legend entry to hide it or to overlay another model's outline. One colour "
                  "per part (its sticks join its points, its hull is shaded); bushings are "
-                 "coloured by their deflection (mm, scale at the right) with their frames "
-                 "(x red, y green, z blue); stops turn red in contact; the steering axes are "
-                 "dashed, the front-view instant centres (+) and the roll centre (&#9670;) "
-                 "are joined to the contact patches. The tyre's width is drawn 0.7 times its "
-                 "loaded radius (a config gives none). Works offline (plotly.js is in the "
-                 "page)." + ident), fragment]
+                 "coloured by their deflection (mm, scale at the bottom left) with their "
+                 "frames (x red, y green, z blue); stops turn red in contact; the steering "
+                 "axes are dashed, the front-view instant centres (+) and the roll centre "
+                 "(&#9670;) are joined to the contact patches. The tyre's width is drawn 0.7 "
+                 "times its loaded radius (a config gives none). Works offline (plotly.js is "
+                 "in the page)." + ident), fragment]
 
 
 def errors_section(summary: dict) -> list[str]:
