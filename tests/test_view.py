@@ -237,8 +237,8 @@ def check_view(b: Browser, url: str, colours: list[str], case: str) -> None:
     screenshots of the wheels alone differ, and only where a wheel is), no error, no
     request but the page."""
     b.open(url)
+    b.run("document.getElementById('ekv-plot').scrollIntoView()")  # a report's view waits
     b.wait_for(READY)
-    b.run("document.getElementById('ekv-plot').scrollIntoView()")
     b.settle()
     box = _plot_box(b)
     img = b.screenshot(box)
@@ -268,31 +268,35 @@ def browser():
         yield b
 
 
-def test_view_pages_in_chromium_offline(browser, tmp_path):
+def test_view_page_in_chromium_offline(browser, tmp_path):
+    """``elastokin view --load-case``: drawn, animated, no error, no request."""
     out = tmp_path / "view.html"
-    result = CliRunner().invoke(main, ["view", str(AXLE), "--load-case", "parallel_travel",
+    result = CliRunner().invoke(main, ["view", str(CORNER), "--load-case", "parallel_travel",
                                        "--rig", str(TRAVEL), "--out", str(out)])
     assert result.exit_code == 0, result.output
-    check_view(browser, out.resolve().as_uri(), ["#1f77b4", "#ff7f0e", "#2ca02c"],
+    # lower arm, upper arm, knuckle (the rack is one point)
+    check_view(browser, out.resolve().as_uri(), ["#1f77b4", "#ff7f0e", "#9467bd"],
                "parallel_travel")
-    data = read_yaml(CORNER)[0]
-    data["springs"]["coil"]["seats"] = ["spring_upper", "nowhere"]
-    config = tmp_path / "dw.yaml"
-    config.write_text(yaml.safe_dump(data))
-    CliRunner().invoke(main, ["view", str(config), "--out", str(out)])
-    browser.open(out.resolve().as_uri())
-    browser.wait_for(READY)
-    assert "hardpoint 'nowhere'" in browser.run("document.querySelector('.ekv-errors')"
-                                                ".textContent")
-    img = browser.screenshot(_plot_box(browser))
-    assert _colour_pixels(img, "#1f77b4") > 30 and browser.errors == []
 
 
 @pytest.mark.slow
-def test_report_view_in_chromium_offline(browser, case_kc: Path):
-    """The case study's report (every model, every load case): drawn, animated, offline."""
+def test_report_view_in_chromium_offline(browser, case_kc: Path, tmp_path):
+    """The case study's report (every model, every load case): drawn, animated, offline;
+    and the view of a config with errors: what resolved drawn, the errors listed."""
     check_view(browser, (case_kc / "report.html").resolve().as_uri(),
                ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"], "parallel_travel")
+    data = read_yaml(AXLE)[0]
+    data["springs"]["coil"]["seats"] = ["spring_upper", "nowhere"]
+    config = tmp_path / "axle.yaml"
+    config.write_text(yaml.safe_dump(data, sort_keys=False))  # the parts' order: colours
+    out = tmp_path / "view.html"
+    assert CliRunner().invoke(main, ["view", str(config), "--out", str(out)]).exit_code == 1
+    browser.open(out.resolve().as_uri())
+    browser.wait_for(READY)
+    listed = browser.run("document.querySelector('.ekv-errors').textContent")
+    assert "1 error in the config" in listed and "hardpoint 'nowhere'" in listed
+    img = browser.screenshot(_plot_box(browser))
+    assert _colour_pixels(img, "#1f77b4") > 30 and browser.errors == []
 
 
 @pytest.mark.slow
@@ -311,7 +315,9 @@ def test_benchmark_quick_mode(tmp_path):
         report["other_bytes"] and report["plotly_js_bytes"] > 1e6
     assert report["frames"] > 10 and report["models"] == ["initial", "initial_kinematic"]
     if chromium_path() is not None:
-        assert report["load"]["median_s"] > 0 and report["load"]["page_errors"] == []
+        load = report["load"]
+        assert load["lazy"] and load["load_s"] > 0 and load["view_s"] > 0
+        assert load["renderer_cpu_s"] > 0 and load["page_errors"] == []
     assert r["poses"]["with_poses_s"] > 0 and r["poses"]["ratio"] > 0
     assert list(r["view"]) == ["double_wishbone_axle"]
 

@@ -263,8 +263,8 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
     views, overlay = run_views(run)
-    view = (view_fragment(views, overlay), overlay.factor if overlay else None) if views \
-        else None
+    view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
+        if views else None
     write_report(folder / "report.html", summary, charts, ident, view)
     return summary
 

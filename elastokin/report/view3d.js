@@ -237,6 +237,26 @@
     });
   };
 
+  /* the view drawn when its plot comes near the window (a long report opens at once; the
+     library, kept unparsed in the script element <prefix>-plotlyjs, is run then) */
+  window.elastokinLazyView = function (prefix) {
+    var plot = document.getElementById(prefix + "-plot"), started = false;
+    function start() {
+      if (started) { return; }
+      started = true;
+      if (typeof Plotly === "undefined") {
+        var lib = document.createElement("script");
+        lib.text = document.getElementById(prefix + "-plotlyjs").textContent;
+        document.head.appendChild(lib);
+      }
+      window.elastokinView(prefix);
+    }
+    if (!("IntersectionObserver" in window)) { start(); return; }
+    new IntersectionObserver(function (entries, observer) {
+      if (entries.some(function (e) { return e.isIntersecting; })) { observer.disconnect(); start(); }
+    }, {rootMargin: "300px"}).observe(plot);
+  };
+
   /* the view of the figure and data in the page's script elements <prefix>-figure and
      <prefix>-data, drawn into the element <prefix>-plot */
   window.elastokinView = function (prefix) {

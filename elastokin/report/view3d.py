@@ -213,18 +213,21 @@ def _json_script(element_id: str, value) -> str:
     return f'<script type="application/json" id="{element_id}">{text}</script>'
 
 
-def view_fragment(models: list[ModelView], overlay=None, include_plotlyjs: bool = True,
+def view_fragment(models: list[ModelView], overlay=None, lazy: bool = False,
                   prefix: str = "ekv") -> str:
-    """The view as an HTML fragment: controls, the frame's description, the plot (plotly.js
-    embedded when ``include_plotlyjs``), the figure and the data, and the script that draws
-    the first frame (one plotly.newPlot) and moves it."""
+    """The view as an HTML fragment: controls, the frame's description, the plot, plotly.js
+    (embedded), the figure and the data, and the script that draws the first frame (one
+    plotly.newPlot) and moves it. ``lazy``: plotly.js is run and the view drawn only when the
+    plot comes near the window (a report opens without waiting for them)."""
     from plotly.offline import get_plotlyjs
 
     figure, payload = build_view(models, overlay, prefix)  # tests validate it with plotly
     figure["config"] = {"displaylogo": False, "responsive": True,
                         "toImageButtonOptions": {"format": "png", "scale": 2}}
     script = resources.files("elastokin.report").joinpath("view3d.js").read_text("utf-8")
-    library = f"<script>{get_plotlyjs()}</script>" if include_plotlyjs else ""
+    kind = f' type="text/plain" id="{prefix}-plotlyjs"' if lazy else ""
+    library = f"<script{kind}>{get_plotlyjs()}</script>"
+    start = "elastokinLazyView" if lazy else "elastokinView"
     controls = (f'<div class="ekv-controls"><label>model <select id="{prefix}-model">'
                 f'</select></label><label>load case <select id="{prefix}-case"></select>'
                 f'</label><button type="button" id="{prefix}-play">\u25b6 play</button>'
@@ -235,7 +238,7 @@ def view_fragment(models: list[ModelView], overlay=None, include_plotlyjs: bool 
             f'<div id="{prefix}-plot" class="ekv-plot" style="height:{PLOT_HEIGHT_PX}px"></div>'
             f"{_json_script(f'{prefix}-figure', figure)}{_json_script(f'{prefix}-data', payload)}"
             f"{library}<script>{script}</script>"
-            f"<script>elastokinView('{prefix}');</script>")
+            f"<script>{start}('{prefix}');</script>")
 
 
 def write_view_page(path: Path, title: str, models: list[ModelView], errors: list[str],
