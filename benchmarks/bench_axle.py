@@ -12,6 +12,12 @@ the same load case. Suspensions: the shipped double wishbone axle
 (configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
 (configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
 
+The twist beam (configs/twist_beam_axle.yaml) is timed against the same axle with a rigid
+cross beam (:func:`elastokin.config.variants.rigid_beams`; built with the flexible axle's
+design preloads: on two ball joints a rigid axle is over-constrained in the assembly check),
+load case by load case: what the flexible beam (its elements and the shear-centre chain)
+costs per point.
+
 Prints the figures and writes them to ``benchmarks/results/bench_axle.json``, with the
 machine's load average before and after. No target: the measure the issue asks for.
 """
@@ -27,8 +33,8 @@ import warnings
 from pathlib import Path
 
 from elastokin.config.loading import load_suspension
-from elastokin.config.variants import corner
-from elastokin.mbs.design import build_model
+from elastokin.config.variants import corner, rigid_beams
+from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import EXUDYN_VERSION
 from elastokin.rig.drives import drives
 from elastokin.rig.load_cases import run_drive_sides
@@ -37,6 +43,7 @@ from elastokin.version import __version__
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
            "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
+TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 
 
 def best_of(fn, repeat: int) -> float:
@@ -48,10 +55,11 @@ def best_of(fn, repeat: int) -> float:
     return best
 
 
-def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
-    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s``."""
+def load_case_times(s, repeat: int, design=None) -> tuple[float, dict[str, dict]]:
+    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s`` (with
+    these design preloads, or its own)."""
     t0 = time.perf_counter()
-    model = build_model(s)
+    model = build_model(s, design=design)
     build = time.perf_counter() - t0
     out = {}
     for d in drives(s, kinematic=s.kinematic):
@@ -75,6 +83,22 @@ def compare(path: Path, repeat: int) -> dict:
             "ratio_axle_to_corner_per_point": ratios}
 
 
+def compare_beam(path: Path, repeat: int) -> dict:
+    """The twist beam's cost per point against the same axle with a rigid cross beam."""
+    flexible = load_suspension(path)
+    design = design_state(flexible)
+    build_flexible, times_flexible = load_case_times(flexible, repeat, design)
+    build_rigid, times_rigid = load_case_times(rigid_beams(flexible), repeat, design)
+    ratios = {case: t["ms_per_point"] / times_rigid[case]["ms_per_point"]
+              for case, t in times_flexible.items()}
+    return {"config": str(path.relative_to(ROOT)), "config_sha256": flexible.sha256,
+            "beam_elements": sum(b.elements_per_segment * (len(b.nodes_mm) - 1)
+                                 for b in flexible.beams),
+            "build_s": {"flexible": build_flexible, "rigid": build_rigid},
+            "flexible": times_flexible, "rigid": times_rigid,
+            "ratio_flexible_to_rigid_per_point": ratios}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
@@ -84,11 +108,13 @@ def main() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
         figures = {name: compare(path, args.repeat) for name, path in CONFIGS.items()}
+        beam = compare_beam(TWIST_BEAM, args.repeat)
     result = {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
               "machine": {"python": platform.python_version(),
                           "processor": platform.machine(), "cpus": os.cpu_count()},
               "repeat": args.repeat, "load_average_before": load_before,
-              "load_average_after": os.getloadavg(), "suspensions": figures}
+              "load_average_after": os.getloadavg(), "suspensions": figures,
+              "twist_beam": beam}
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
@@ -103,6 +129,14 @@ def main() -> None:
             corner_ms = f"{c['ms_per_point']:14.3f}" if c else f"{'-':>14}"
             ratio = f"{f['ratio_axle_to_corner_per_point'][case]:8.2f}" if c else f"{'-':>8}"
             print(f"  {case:<28}{a['points']:7d}{a['ms_per_point']:12.3f}{corner_ms}{ratio}")
+    print(f"\ntwist beam ({beam['config']}, {beam['beam_elements']} beam elements) against "
+          f"a rigid cross beam: build {beam['build_s']['flexible']:.2f} s / "
+          f"{beam['build_s']['rigid']:.2f} s")
+    print(f"  {'load case':<28}{'points':>7}{'beam ms/pt':>12}{'rigid ms/pt':>13}{'ratio':>8}")
+    for case, t in beam["flexible"].items():
+        print(f"  {case:<28}{t['points']:7d}{t['ms_per_point']:12.3f}"
+              f"{beam['rigid'][case]['ms_per_point']:13.3f}"
+              f"{beam['ratio_flexible_to_rigid_per_point'][case]:8.2f}")
     print(f"\nwritten to {args.out}")
 
 

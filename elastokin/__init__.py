@@ -43,6 +43,7 @@ _API = {
     "with_hardpoints": "elastokin.config.variants",
     "with_bushing_laws": "elastokin.config.variants",
     "with_joint_shifts": "elastokin.config.variants",
+    "rigid_beams": "elastokin.config.variants",
     # models
     "build_model": "elastokin.mbs.design",
     "design_state": "elastokin.mbs.design",

@@ -21,7 +21,7 @@ from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
 from elastokin.formats import adams_car, adams_export, adams_kc, teimorbit
 
-from .suspension_checks import assert_same_bushings
+from .suspension_checks import assert_same_bushings, scrambled
 
 DATA = Path(__file__).parent / "data"
 ADAMS = DATA / "adams"
@@ -418,23 +418,10 @@ def test_kc_channels(tmp_path):
 # Round trip: export, import into a template that has lost its geometry and stiffness, same K&C
 
 
-def _scrambled(data: dict) -> dict:
-    """The config with every hardpoint moved by 5 mm and every bushing 3x stiffer: a template
-    whose geometry and bushings must all come back from the ADAMS files."""
-    t = copy.deepcopy(data)
-    t["hardpoints"] = {k: [v[0] + 5.0, v[1] - 5.0, v[2] + 5.0] for k, v in t["hardpoints"].items()}
-    for c in t["connections"].values():
-        if c["type"] == "bushing":
-            c["stiffness"] = {d: 3.0 * v if isinstance(v, (int, float)) else
-                              {"deflection": v["deflection"], "load": [3 * x for x in v["load"]]}
-                              for d, v in c["stiffness"].items()}
-    return t
-
-
 def test_round_trip_pseudo_mcpherson_same_steer_amplitude(tmp_path, mcpherson):
     data, s, preload = mcpherson
     adams_export.export_adams(s, tmp_path, preload)
-    template = _scrambled(data)
+    template = scrambled(data)
     cfg, warnings = adams_car.import_adams(template, tmp_path, tmp_path / "mapping.yaml")
     assert warnings == []
     back = suspension_from_dict(cfg, "imported.yaml")
@@ -453,7 +440,7 @@ def test_round_trip_iso_frame_double_wishbone(tmp_path):
     data = read_yaml(WISHBONE)[0]
     s = suspension_from_dict(data, "double_wishbone.yaml")
     adams_export.export_adams(s, tmp_path, design_state(s).bushing_preload)
-    cfg, _ = adams_car.import_adams(_scrambled(data), sub_file(tmp_path),
+    cfg, _ = adams_car.import_adams(scrambled(data), sub_file(tmp_path),
                                     tmp_path / "mapping.yaml")
     assert cfg["hardpoints"] == data["hardpoints"]  # ISO -> ADAMS -> ISO, exactly
     assert steer_amplitude(cfg, "imported.yaml") == pytest.approx(
@@ -475,12 +462,12 @@ def test_cli_export_then_import(tmp_path, case_path):
         "springs.tbl/coil.spr",
         "subsystems.tbl/pseudo-McPherson_front_left_Meissonnier_et_al._2006.sub"]
     data = read_yaml(case_path)[0]
-    scrambled = _scrambled(data)
-    scrambled["measurements"]["folder"] = "cmm"  # relative to the template
+    moved = scrambled(data)
+    moved["measurements"]["folder"] = "cmm"  # relative to the template
     (tmp_path / "tpl" / "cmm").mkdir(parents=True)
     (tmp_path / "tpl" / "cmm" / "assembly.igs").write_text("")
     template = tmp_path / "tpl" / "template.yaml"
-    template.write_text(yaml.safe_dump(scrambled, sort_keys=False))
+    template.write_text(yaml.safe_dump(moved, sort_keys=False))
     new = tmp_path / "sub" / "new.yaml"
     r = runner.invoke(main, ["import-adams", "--hardpoints", str(out),
                              "--mapping", str(out / "mapping.yaml"), "--template",

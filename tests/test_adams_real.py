@@ -30,8 +30,9 @@ SHARED_FILES = sorted(p for p in SHARED.glob("*/*") if p.name != "SOURCE.txt"
                       and p.name not in {q.name for q in OURS}) if SHARED.is_dir() else []
 FILES = OURS + SHARED_FILES
 #: files that are not TeimOrbit files, and the reason they are refused
-REFUSED = {"camelot_1_pull0_offset0.req": "comes before the first [BLOCK] header (not a "
-                                          "TeimOrbit file?)"}
+REFUSED = {"camelot_1_pull0_offset0.req": "comes before the first [BLOCK] header (expected "
+                                          "[NAME]): not a TeimOrbit file? (its text is not "
+                                          "shown)"}
 FSAE = SHARED / "zbingf_fsae_front_susp_sub" / "fsae_front_susp.sub"
 needs_shared = pytest.mark.skipif(not FSAE.is_file(), reason="../shared/adams_real is absent")
 

@@ -29,6 +29,7 @@ from elastokin.rig.load_cases import drives, run_drive, run_drive_sides, static_
 from .conftest import CASE
 
 DW = Path(__file__).parent / "data" / "double_wishbone.yaml"
+TWIST_BEAM = Path(__file__).resolve().parents[1] / "configs" / "twist_beam_axle.yaml"
 
 
 def coarse_rig(data: dict) -> dict:
@@ -137,6 +138,7 @@ VARIANTS = {
     "friction": _friction,
     "imported_from_adams": _imported_from_adams,
     "double_wishbone": lambda: ModelVariant("double_wishbone", nominal(DW)),
+    "twist_beam": lambda: ModelVariant("twist_beam", nominal(TWIST_BEAM)),
 }
 _BUILT: dict[str, tuple] = {}
 

@@ -11,7 +11,7 @@ import yaml
 from click.testing import CliRunner
 
 from elastokin.cli.main import main
-from elastokin.config.loading import read_yaml, suspension_from_dict
+from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
 from elastokin.config.schema import ClearanceSpec
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm import read_points, write_points
@@ -325,3 +325,17 @@ def test_measurements_must_cover_every_part(tmp_path, case_dict):
     del data["measurements"]["parts"]["strut_rod"]
     with pytest.raises(Exception, match="strut_rod"):
         identify(suspension_from_dict(data, str(CASE)))
+
+
+def test_a_label_mapping_that_finds_nothing_names_the_label(tmp_path):
+    """``labels`` maps a hardpoint to its label in the file: a label the file does not hold is
+    named with the mapping, not as the hardpoint."""
+    def relabel(data):
+        data["measurements"]["parts"]["strut_rod"]["labels"] = {"spring_upper_seat": "SPRING_X"}
+
+    path, _ = measured_copy(tmp_path, relabel)
+    with pytest.raises(MeasurementError) as exc:
+        identify(load_suspension(path))
+    assert "strut_rod.igs: part 'strut_rod': no point labelled 'SPRING_X' (measurements.parts" \
+           ".strut_rod.labels gives 'SPRING_X' for hardpoint 'spring_upper_seat')" in \
+           str(exc.value)

@@ -78,6 +78,7 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
     axle template also the other side, the anti-roll bar and the steering rack ratio."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
     from elastokin.formats.adams_car import read_bushing
+    from elastokin.formats.adams_database import input_roots
     from elastokin.formats.adams_import import import_adams_axle, subsystem_files
     from elastokin.formats.adams_mapping import read_mapping
     from elastokin.formats.config_yaml import dump_config
@@ -90,12 +91,15 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
                                   "database) or --assembly (an .asy file), not both")
             template, _ = read_yaml(template_path)
             bus_files = _bushing_option(bushings)
-            mapping = read_mapping(mapping_path)
+            # what the files name must lie in the databases and folders typed here
+            roots = input_roots([hardpoints_path, assembly_path, *subsystem_paths,
+                                 mapping_path])
+            mapping = read_mapping(mapping_path, roots)
             minor = mapping.subsystem.get("minor_role") or _position(template)
             files = subsystem_files(mapping, hardpoints_path, assembly_path, subsystem_paths,
-                                    minor)
+                                    minor, roots)
             cfg, warnings, read = import_adams_axle(template, files, mapping_path, bus_files,
-                                                    f"template {template_path}")
+                                                    f"template {template_path}", roots)
             _keep_data_folders(cfg, template_path, out_path)
             # the new config must be valid; an error names the template it was made from
             suspension_from_dict(cfg, f"{out_path} (the template {template_path} with the "
@@ -252,9 +256,8 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
 
                 state = design_state(s)
                 preload, springs = state.bushing_preload, state.spring_force_N
-            alias = database or out_dir.name.removesuffix(".cdb")
-            spec = subsystem_spec(s, mapping, alias, template_name, major_role, minor_role,
-                                  warnings)
+            spec = subsystem_spec(s, mapping, database, template_name, major_role, minor_role,
+                                  warnings, out_dir.name.removesuffix(".cdb"))
             with output as tmp:
                 files = write_files(s, tmp, preload, range_mm, range_deg, spring_force=springs,
                                     mapping=mapping, spec=spec, warnings=warnings)

@@ -48,7 +48,12 @@ def check_writable(path: Path, option: str = "--out") -> None:
         if not existing.is_dir():
             raise cannot_write(option, path, f"{os.strerror(errno.ENOTDIR)}: {existing}")
         for folder in [existing] + ([path] if path.is_dir() else []):
-            fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+            try:
+                fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+            except FileNotFoundError:
+                if folder == path and not path.exists():
+                    continue  # another run moved its results in meanwhile: `existing` told
+                raise
             os.close(fd)
             os.unlink(probe)
     except OSError as exc:

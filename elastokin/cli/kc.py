@@ -194,6 +194,7 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     real suspension (as-built + progressive bushings + ball-joint friction) on the rig and
     writes one K&C test CSV per load case. The same config and seed give the same bytes.
     """
+    from elastokin.config.confined import data_folder
     from elastokin.config.loading import load_suspension
     from elastokin.synthetic.real_suspension import kc_test_runs, write_kc_test_files
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
@@ -207,11 +208,11 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
             cmm = only in (None, "cmm")
             kc_test = only == "kc-test" or (only is None and s.kc_test is not None
                                             and s.kc_test.synthetic is not None)
-            here = Path(s.source).parent
+            # the config's folders: inside its own folder or the working folder (README)
             if cmm and out_dir is None and s.measurements is not None:
-                _check_data_folder(here / s.measurements.folder, "measurements.folder")
+                _check_data_folder(data_folder(s, "measurements"), "measurements.folder")
             if kc_test and kc_test_dir is None and s.kc_test is not None:
-                _check_data_folder(here / s.kc_test.folder, "kc_test.folder")
+                _check_data_folder(data_folder(s, "kc_test"), "kc_test.folder")
             written = []
             with progress_bar(cmm + (kc_test_runs(s) if kc_test else 0)) as progress:
                 if cmm:

@@ -21,6 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from elastokin.config.plausibility import implausible
 from elastokin.config.schema_axle import AxleSpec, SteeringSpec
 from elastokin.physics.laws import DirectionLaw
 
@@ -62,7 +63,22 @@ def steering_ratio(spec: SteeringSpec, fail) -> DirectionLaw:
     try:
         return DirectionLaw(tuple(c.steering_wheel_deg), tuple(c.rack_travel_mm))
     except ValueError as exc:
-        raise fail("axle.steering.ratio_curve", str(exc)) from None
+        raise fail("axle.steering.ratio_curve", curve_problem(
+            str(exc), "steering_wheel_deg", "rack_travel_mm")) from None
+
+
+def curve_problem(message: str, x: str, y: str) -> str:
+    """A law's complaint (:class:`~elastokin.physics.laws.DirectionLaw`, worded for a bushing
+    curve's deflection and load) in the terms of another curve, ``y`` against ``x``: it
+    increases strictly through (0, 0) (the pinion's sense is found from the geometry, the bar
+    twists both ways)."""
+    if "at zero deflection" in message:
+        return f"{y} must be 0 where {x} is 0 (the curve passes through (0, 0))"
+    if "deflections must be strictly increasing" in message:
+        return f"{x} must be strictly increasing"
+    if "strictly increasing" in message:
+        return f"{y} must increase strictly with {x}"
+    return message
 
 
 def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
@@ -81,6 +97,8 @@ def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
         out += [(f"stops.{st.name}", p) for q, p in zip(st.parts, st.points_mm) if q == part]
     if s.wheel.part == part:
         out.append(("wheel.centre", s.wheel.centre_mm))
+    for b in s.beams:
+        out += [(f"parts.{part}.beam.nodes", p) for p in b.nodes_mm] if b.part == part else []
     return out
 
 
@@ -97,6 +115,40 @@ def check_mirror_plane(s, spec: AxleSpec, fail) -> None:
                            f"point at y = {p[1]:.6g} mm is not on the {s.side} side; declare "
                            f"'{part}' in axle.shared (parts spanning both sides are declared "
                            "once) or move the point")
+
+
+def check_other_side_plane(s, spec: AxleSpec, fail) -> None:
+    """Every ``axle.other_side`` hardpoint whose corner point lies on the corner's side of the
+    centre plane lies on the other side (config frame, as the corner's points): a point typed
+    with the corner's sign would put the other wheel's joint across the car."""
+    out = s.outboard  # the config side's outboard direction
+    other = other_side(s.side)
+    for name, q in spec.other_side.hardpoints.items():
+        p = np.asarray(s.hardpoints.get(name, np.zeros(3)), float)
+        q = np.asarray(q, float)
+        if float(p @ out) <= CENTRE_PLANE_TOLERANCE_MM or float(q @ out) < \
+                -CENTRE_PLANE_TOLERANCE_MM:
+            continue
+        mirror = ", ".join(f"{v:g}" for v in MIRROR @ p)
+        raise fail(f"axle.other_side.hardpoints.{name}", f"y = {q[1]:.6g} mm is not on the "
+                   f"{other} side of the vehicle centre plane (y = 0), where the {other} "
+                   f"corner's points are ('{name}' of the {s.side} corner is at y = "
+                   f"{p[1]:.6g} mm, its mirror at [{mirror}]); other_side points are in the "
+                   "config frame, as the hardpoints: give the y coordinate its sign")
+
+
+def check_track(corner, other, fail) -> None:
+    """The design track (between the two contact points, across the centre plane) is
+    plausible (:mod:`elastokin.config.plausibility`): hardpoints typed in metres, or an origin
+    off the vehicle centre plane (y = 0, the mirror plane), give an axle that solves but is
+    not the car."""
+    track = abs(float((corner.wheel.contact_patch_mm - other.wheel.contact_patch_mm)
+                      @ corner.outboard))
+    problem = implausible("track_mm", track)
+    if problem:
+        raise fail("wheel.centre", f"the axle's design track (between the contact points of "
+                   f"this wheel and its mirror about y = 0) is {problem}: are the hardpoints "
+                   "in mm, with the origin on the vehicle centre plane?")
 
 
 def check_shared(s, spec: AxleSpec, fail) -> None:
@@ -132,28 +184,36 @@ def check_shared(s, spec: AxleSpec, fail) -> None:
 
 def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
     """No corner name is the name the axle gives to another item's copy on the other side
-    (``front_arm`` and ``front_arm_right``): a part named as a shared part's other-side copy
-    declares a shared part on both sides; any other such name would be taken twice."""
+    (``front_arm`` and ``front_arm_right``; a hardpoint ``X_right`` beside ``X``): a part named
+    as a shared part's other-side copy declares a shared part on both sides; any other such
+    name would be taken twice, the user's item silently replaced by the mirror. Parts,
+    connections and springs share one namespace (:meth:`Resolver.check_names`); hardpoints
+    and stops have their own."""
     shared = set(spec.shared)
-    parts = set(s.parts) - {s.ground}
-    for name in sorted(parts):
-        base = name.removesuffix(suffix)
-        if base == name or base not in parts:
-            continue
-        if base in shared:
-            raise fail(f"parts.{name}", f"'{name}' is the other side's '{base}', a shared "
+    side = suffix.removeprefix("_")
+    for name in sorted(spec.shared):
+        copy = name + suffix
+        if copy in s.parts:
+            raise fail(f"parts.{copy}", f"'{copy}' is the other side's '{name}', a shared "
                        f"part (axle.shared): a shared part is declared once for both sides; "
-                       f"remove '{name}' and attach the connections to '{base}'")
-        raise fail(f"parts.{name}", f"'{name}' is the name of the mirrored copy of part "
-                   f"'{base}' on the {name[-len(suffix) + 1:]} side; rename it")
-    for section in ("connections", "springs", "stops"):
-        items = s.raw.get(section) or {}
-        for name in sorted(items):
-            base = name.removesuffix(suffix)
-            if base != name and base in items and \
-                    not declared_once(tuple(items[base]["parts"]), shared, s.ground):
-                raise fail(f"{section}.{name}", f"'{name}' is the name of the mirrored copy "
-                           f"of '{base}' on the {name[-len(suffix) + 1:]} side; rename it")
+                       f"remove '{copy}' and attach the connections to '{name}'")
+    mirrored = {}  # a generated name -> what it copies
+    for name in s.parts:
+        if name not in shared and name != s.ground:
+            mirrored[name + suffix] = f"part '{name}'"
+    for section in ("connections", "springs"):
+        for name, item in (s.raw.get(section) or {}).items():
+            if not declared_once(tuple(item["parts"]), shared, s.ground):
+                mirrored[name + suffix] = f"{section[:-1]} '{name}'"
+    sections = {"parts": mirrored, "connections": mirrored, "springs": mirrored,
+                "stops": {n + suffix: f"stop '{n}'" for n in (s.raw.get("stops") or {})},
+                "hardpoints": {n + suffix: f"hardpoint '{n}'" for n in s.hardpoints}}
+    for section, generated in sections.items():
+        for name in sorted(s.raw.get(section) or {}):
+            if name in generated:
+                raise fail(f"{section}.{name}", f"'{name}' is the name of the mirrored "
+                           f"copy of {generated[name]} on the {side} side (the axle names "
+                           "the other corner's items so): it would be taken twice; rename it")
 
 
 def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:

@@ -29,6 +29,7 @@ from elastokin.config.schema import DesignSpec, Frame, PartSpec, SuspensionFile
 from elastokin.config.schema_base import StrictModel
 from elastokin.config.suspension import (
     Axle,
+    Beam,
     Bushing,
     Joint,
     Link,
@@ -72,13 +73,14 @@ class SuspensionDraft:
     axle: Axle | None = None
     errors: tuple[str, ...] = ()
     suspension: Suspension | None = None
+    beams: tuple[Beam, ...] = ()  # the flexible parts (none resolved item by item)
 
 
 def draft_of(s: Suspension, errors: tuple[str, ...] = ()) -> SuspensionDraft:
     """The draft of a resolved suspension (with ``errors`` of sections beside its geometry)."""
     return SuspensionDraft(s.name, s.source, s.frame, s.side, s.ground, s.parts, s.hardpoints,
                            s.joints, s.links, s.bushings, s.springs, s.stops, s.wheels,
-                           s.axle, tuple(errors), s)
+                           s.axle, tuple(errors), s, s.beams)
 
 
 def draft_suspension(path: str | Path) -> SuspensionDraft:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from elastokin.config.beams import resolve_beams
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
 from elastokin.config.schema import BushingSpec, LinkSpec, RackSpec, SuspensionFile
 from elastokin.config.schema_base import AxisBetween, AxisSpec, PointSpec
@@ -218,6 +219,7 @@ class Resolver:
                 self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
         c = self.corner()
         self.check_design(list(c.bushings))
+        beams = resolve_beams(self)
         res = Suspension(
             name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
             ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
@@ -225,7 +227,7 @@ class Resolver:
             springs=c.springs, design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
             kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
-            rig_sha256=rig_sha256, stops=c.stops,
+            rig_sha256=rig_sha256, stops=c.stops, beams=beams,
         )
         return res
 

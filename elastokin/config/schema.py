@@ -13,14 +13,17 @@ from typing import Annotated, Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
+from elastokin.config.plausibility import plausible
 from elastokin.config.schema_axle import AxleSpec, StopSpec
 from elastokin.config.schema_base import (
     AxisSpec,
     CurveSpec,
+    Point3,
     PointSpec,
     StrictModel,
     Vector3,
 )
+from elastokin.config.schema_beam import BeamSpec
 from elastokin.config.schema_rig import RigSpec
 
 
@@ -51,6 +54,7 @@ class PartSpec(StrictModel):
     mass_kg: float | None = Field(default=None, gt=0)
     centre_of_mass: PointSpec | None = None
     description: str = ""
+    beam: BeamSpec | None = None  # a flexible part made of beam elements (rigid without)
 
 
 class WheelSpec(StrictModel):
@@ -59,6 +63,8 @@ class WheelSpec(StrictModel):
     spin_axis: AxisSpec
     loaded_radius_mm: float = Field(gt=0)
     tyre_rate_N_per_mm: float | None = Field(default=None, gt=0)  # ride rate (in series)
+
+    _plausible = field_validator("loaded_radius_mm", "tyre_rate_N_per_mm")(plausible)
 
 
 class _Joint(StrictModel):
@@ -382,7 +388,7 @@ class SuspensionFile(StrictModel):
     frame: Frame
     side: Literal["left", "right"]
     ground: str
-    hardpoints: dict[str, Vector3]
+    hardpoints: dict[str, Point3]
     parts: dict[str, PartSpec]
     wheel: WheelSpec
     connections: dict[str, ConnectionSpec]

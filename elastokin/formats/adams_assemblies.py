@@ -33,8 +33,8 @@ ASSEMBLY_SIDES = {"left/right": ("left", "right"), "left": ("left",), "right": (
 @dataclass(frozen=True)
 class Assembly:
     """One assembly block: its USAGE, SYMMETRY as written, line, DEFINITION, PROPERTY_FILE
-    and every ``KEY = value`` (converted to elastokin units where the key is a known
-    quantity: preloads N and N*mm, offsets mm and deg)."""
+    (and its line) and every ``KEY = value`` (converted to elastokin units where the key is a
+    known quantity: preloads N and N*mm, offsets mm and deg)."""
 
     block: str
     usage: str
@@ -43,6 +43,13 @@ class Assembly:
     definition: str | None = None
     property_file: str | None = None
     values: dict[str, float | str] = field(default_factory=dict)
+    property_file_line: int | None = None
+
+    def where(self, path: str | Path, side: str) -> str:
+        """``FILE, line N, block [BLOCK] USAGE 'u' (side)``: where its PROPERTY_FILE is
+        named (errors)."""
+        return (f"{path}, line {self.property_file_line or self.line}, block [{self.block}] "
+                f"USAGE '{self.usage}' ({side})")
 
     @property
     def preload(self) -> np.ndarray:
@@ -72,7 +79,8 @@ def read_assemblies(source: str | Path | TeimOrbitFile, block: str
         a = Assembly(b.name, usage, symmetry, b.line,
                      definition if isinstance(definition, str) else None,
                      prop if isinstance(prop, str) else None,
-                     {k: e.value for k, e in b.entries.items()})
+                     {k: e.value for k, e in b.entries.items()},
+                     b.entries["PROPERTY_FILE"].line if "PROPERTY_FILE" in b.entries else None)
         sides = out.setdefault(usage, {})
         for side in ASSEMBLY_SIDES[symmetry]:
             if side in sides:

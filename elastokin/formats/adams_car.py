@@ -1,5 +1,7 @@
-"""ADAMS/Car files in: bushing property files (``.bus``, or XML), hardpoint tables, and
-:func:`import_adams` (an elastokin config from them through a mapping file).
+"""ADAMS/Car files in: bushing property files (``.bus``, or XML), and :func:`import_adams` (an
+elastokin config from them and a hardpoint table, :mod:`elastokin.formats.adams_hardpoints`,
+through a mapping file; every file named inside the databases given,
+:mod:`elastokin.formats.adams_database`).
 
 Pure Python/numpy (no Exudyn). Values are in elastokin units (mm, N, N*mm, deg), converted on
 reading by :mod:`elastokin.formats.teimorbit`. ADAMS/Car's global frame is X rearward, Y right,
@@ -15,17 +17,25 @@ from __future__ import annotations
 
 import copy
 import math
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from elastokin.config.confined import Roots
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_assemblies import read_assemblies, read_bushing_assemblies
 from elastokin.formats.adams_bushing_xml import is_xml, read_bushing_xml
 from elastokin.formats.adams_curves import akima_deviation
+from elastokin.formats.adams_database import database_file, input_roots, subsystem_file
+from elastokin.formats.adams_hardpoints import (
+    HARDPOINT_COLUMNS,
+    SYMMETRIES,
+    AdamsHardpoint,
+    lookup_hardpoint,
+    read_hardpoints,
+)
 from elastokin.formats.adams_mapping import (
     AdamsMapping,
     adams_to_config,
@@ -230,146 +240,7 @@ def clean(x: float) -> float:
 
 
 # ----------------------------------------------------------------------------------------------
-# Hardpoints
-
-HARDPOINT_COLUMNS = ("hardpoint_name", "symmetry", "x_value", "y_value", "z_value")
-#: symmetry values of a hardpoint row: a pair (left point stored), a single point, or one side
-#: of an asymmetric pair (each side its own row)
-SYMMETRIES = ("left/right", "single", "left", "right")
-
-
-@dataclass(frozen=True)
-class AdamsHardpoint:
-    """A hardpoint of a hardpoint table: ``position_mm`` as stored (ADAMS/Car global frame,
-    mm; the left point of a ``left/right`` pair), ``symmetry`` ``left/right``, ``single``, or
-    for an asymmetric pair ``left``, ``right`` or ``asymmetric`` (both rows), whose points are
-    in ``sides``."""
-
-    name: str
-    symmetry: str
-    position_mm: tuple[float, float, float]
-    line: int
-    sides: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-
-    def at(self, side: str) -> np.ndarray:
-        """The point on ``side`` (left/right), ADAMS frame, mm: the right point of a pair is the
-        Y mirror of the stored left one; a ``single`` point is the same on both sides; an
-        asymmetric pair gives each side its own row."""
-        p = np.array(self.position_mm, float)
-        if self.symmetry == "single":
-            return p
-        if self.symmetry == "left/right":
-            if side == "right":
-                p[1] = -p[1]
-            return p
-        if side not in self.sides:
-            raise ConfigError(f"hardpoint '{self.name}' (line {self.line}) has no {side} row "
-                              f"(its rows: {', '.join(self.sides)})")
-        return np.array(self.sides[side], float)
-
-
-def _add_hardpoint(points: dict[str, AdamsHardpoint], hp: AdamsHardpoint, fail: Fail) -> None:
-    old = points.get(hp.name)
-    if old is None:
-        points[hp.name] = hp
-        return
-    if old.symmetry in ("left", "right") and hp.symmetry in ("left", "right") \
-            and old.symmetry != hp.symmetry:
-        points[hp.name] = AdamsHardpoint(hp.name, "asymmetric", old.position_mm, old.line,
-                                         {**old.sides, **hp.sides})
-        return
-    raise fail(hp.line, f"hardpoint '{hp.name}' is given twice (first at line {old.line})")
-
-
-def read_hardpoints(path: str | Path, warnings: list[str] | None = None
-                    ) -> dict[str, AdamsHardpoint]:
-    """Every row of every ``{hardpoint_name symmetry x_value y_value z_value}`` table of a
-    TeimOrbit file (a subsystem ``.sub``, an assembly ``.asy`` or a hardpoint table), converted
-    to mm. ``path`` may also be an ADAMS/Car database folder (:func:`subsystem_file`). What was
-    read tolerantly is appended to ``warnings``."""
-    f = read_teimorbit(subsystem_file(path))
-    if warnings is not None:
-        warnings += f.warnings
-    points: dict[str, AdamsHardpoint] = {}
-    found = False
-    for block in f.blocks:
-        for section in (block, *block.sub_blocks):
-            for t in section.tables:
-                if tuple(c.lower() for c in t.columns) != HARDPOINT_COLUMNS:
-                    continue
-                found = True
-                for row, n in zip(t.rows, t.row_lines):
-                    name, sym, *xyz = row
-                    if not isinstance(name, str) or not name:
-                        raise f.error(n, block.name, f"hardpoint name {name!r}: expected a "
-                                      "quoted name")
-                    sym = str(sym).strip().lower()
-                    if sym not in SYMMETRIES:
-                        raise f.error(n, block.name, f"hardpoint '{name}': symmetry {row[1]!r},"
-                                      f" expected one of {', '.join(SYMMETRIES)}")
-                    if not all(isinstance(v, float) and math.isfinite(v) for v in xyz):
-                        raise f.error(n, block.name, f"hardpoint '{name}': x y z values must "
-                                      f"be numbers, got {xyz}")
-                    sides = {sym: tuple(xyz)} if sym in ("left", "right") else {}
-                    _add_hardpoint(points, AdamsHardpoint(name, sym, tuple(xyz), n, sides),
-                                   lambda line, msg, b=block.name: f.error(line, b, msg))
-    if not found:
-        raise ConfigError(f"{f.path}: no hardpoint table "
-                          f"{{{' '.join(HARDPOINT_COLUMNS)}}} in any block")
-    return points
-
-
-def subsystem_file(path: str | Path, name: str | None = None) -> Path:
-    """``path`` itself, or for a folder (an ADAMS/Car database ``.cdb`` or one of its table
-    folders ``*.tbl``) the subsystem file in the database's ``subsystems.tbl``: the one there,
-    or ``<name>.sub`` (the mapping's subsystem name) when it holds several."""
-    p = Path(path)
-    if not p.is_dir():
-        return p
-    db = p.parent if p.name.lower().endswith(".tbl") else p
-    table = db / "subsystems.tbl"
-    subs = sorted(table.glob("*.sub")) if table.is_dir() else []
-    if len(subs) > 1 and name and (table / f"{name}.sub") in subs:
-        return table / f"{name}.sub"
-    if len(subs) != 1:
-        raise ConfigError(f"{p}: a folder; expected a subsystem file, or an ADAMS/Car database "
-                          f"(or one of its .tbl folders) whose subsystems.tbl holds one .sub "
-                          f"file or the mapping's subsystem (found {len(subs)}: "
-                          f"{', '.join(s.name for s in subs) or 'none'})")
-    return subs[0]
-
-
-def database_file(reference: str, subsystem: str | Path) -> Path:
-    """A property file named in a subsystem file (``mdids://<database>/bushings.tbl/x.bus``,
-    ``<database>/bushings.tbl/x.bus`` or a plain path) as a path: a database reference is taken
-    in the database that holds the subsystem file (its ``subsystems.tbl``'s parent), whatever
-    the alias; a plain relative path from the subsystem file's folder."""
-    sub = Path(subsystem)
-    m = re.match(r"^(?:mdids://[^/\\]+|<[^>]+>)[/\\]+(.*)$", reference.strip())
-    if not m:
-        return sub.parent / reference.strip()
-    db = sub.parent.parent if sub.parent.name.lower().endswith(".tbl") else sub.parent
-    return db.joinpath(*re.split(r"[/\\]+", m.group(1)))
-
-
-def lookup_hardpoint(points: Mapping[str, AdamsHardpoint], name: str, side: str | None,
-            where: str) -> tuple[AdamsHardpoint, str | None]:
-    """The table row of ``name``: exact, case-insensitive, or ``hpl_/hpr_/hps_`` + name (the
-    prefix then gives the side, which must agree with an explicit one)."""
-    by_lower = {k.lower(): v for k, v in points.items()}
-    if name in points or name.lower() in by_lower:
-        return points.get(name) or by_lower[name.lower()], side
-    prefix = {"hpl_": "left", "hpr_": "right", "hps_": None}
-    for pre, pside in prefix.items():
-        base = name[len(pre):]
-        if name.lower().startswith(pre) and base.lower() in by_lower:
-            if side is not None and pside is not None and side != pside:
-                raise ConfigError(f"{where}: '{name}' names the {pside} point but side is "
-                                  f"{side}")
-            return by_lower[base.lower()], pside or side
-    known = ", ".join(sorted(points))
-    raise ConfigError(f"{where}: ADAMS hardpoint '{name}' is not in the hardpoint table "
-                      f"({len(points)} hardpoints: {known})")
+# Hardpoints and bushings into a config
 
 
 def apply_hardpoints(config: dict, points: Mapping[str, AdamsHardpoint],
@@ -427,9 +298,11 @@ def apply_bushings(config: dict, bushings: Mapping[str, BushingProperties],
     return cfg
 
 
-def _assembly_files(sub: Path, mapping: AdamsMapping, side: str) -> dict[str, Path]:
+def _assembly_files(sub: Path, mapping: AdamsMapping, side: str,
+                    roots: Roots | None) -> dict[str, Path]:
     """Bushings the mapping names by ADAMS usage only: the PROPERTY_FILE of the subsystem's
-    ``[BUSHING_ASSEMBLY]`` of that usage on ``side`` (or its ``single`` one)."""
+    ``[BUSHING_ASSEMBLY]`` of that usage on ``side`` (or its ``single`` one), inside
+    ``roots``."""
     wanted = {n: u for n, u in mapping.bushing_usage.items() if n not in mapping.bushings}
     if not wanted:
         return {}
@@ -442,17 +315,26 @@ def _assembly_files(sub: Path, mapping: AdamsMapping, side: str) -> dict[str, Pa
             raise ConfigError(f"{mapping.path}: key 'bushings.{name}': no [BUSHING_ASSEMBLY] "
                               f"of USAGE '{usage}' ({side}) with a PROPERTY_FILE in {sub} "
                               f"(usages: {', '.join(sorted(blocks)) or 'none'})")
-        out[name] = database_file(a.property_file, sub)
+        out[name] = database_file(a.property_file, sub, a.where(sub, a.symmetry), roots,
+                                  "PROPERTY_FILE")
     return out
 
 
 def bushing_sources(subsystem: str | Path, mapping: AdamsMapping, side: str,
-                    bushing_files: Mapping[str, str | Path] | None = None) -> dict[str, Path]:
+                    bushing_files: Mapping[str, str | Path] | None = None,
+                    roots: Roots | None = None) -> dict[str, Path]:
     """The property file of each bushing to import: ``bushing_files``, else the mapping's
     ``file``, else the PROPERTY_FILE of the subsystem's ``[BUSHING_ASSEMBLY]`` of the mapping's
-    ``usage`` on ``side``, found in the database holding the subsystem file."""
-    sub = subsystem_file(subsystem)
-    return {**_assembly_files(sub, mapping, side), **mapping.bushings,
+    ``usage`` on ``side``, found in the database holding the subsystem file (and inside
+    ``roots``, default that database)."""
+    sub = subsystem_file(subsystem, roots=roots)
+    named = {}
+    for name in mapping.bushings:
+        named[name] = mapping.bushing_file(name)
+        if not named[name].is_file():
+            raise ConfigError(f"{mapping.path}: key '{mapping.key}bushings.{name}.file': the "
+                              f"property file {named[name]} does not exist")
+    return {**_assembly_files(sub, mapping, side, roots), **named,
             **{k: Path(v) for k, v in (bushing_files or {}).items()}}
 
 
@@ -463,29 +345,35 @@ def import_adams(template: dict, hardpoints_file: str | Path, mapping_file: str 
     table (a subsystem file, or an ADAMS/Car database holding one) through a mapping file, and
     the stiffness of the named bushings from property files: ``bushing_files``, else the
     mapping's ``file``, else the PROPERTY_FILE of the subsystem's ``[BUSHING_ASSEMBLY]`` of the
-    mapping's ``usage``. Not yet validated: pass it to
-    :func:`elastokin.config.loading.suspension_from_dict`. ``source`` names the template in
-    errors. Returns (config, warnings)."""
-    mapping = read_mapping(mapping_file)
-    sub = subsystem_file(hardpoints_file, mapping.subsystem.get("name"))
+    mapping's ``usage``. Every path a file names must lie inside the database of
+    ``hardpoints_file`` or the mapping file's folder (docs/adams.md). Not yet validated: pass
+    it to :func:`elastokin.config.loading.suspension_from_dict`. ``source`` names the template
+    in errors. Returns (config, warnings)."""
+    roots = input_roots([hardpoints_file, mapping_file])
+    mapping = read_mapping(mapping_file, roots)
+    sub = subsystem_file(hardpoints_file, mapping.subsystem.get("name"), roots)
     warnings: list[str] = []
-    cfg, _, _ = import_subsystem(template, sub, mapping, bushing_files, source, warnings)
+    cfg, _, _ = import_subsystem(template, sub, mapping, bushing_files, source, warnings,
+                                 roots=roots)
     return cfg, warnings
 
 
 def import_subsystem(config: dict, subsystem: str | Path, mapping: AdamsMapping,
                      bushing_files: Mapping[str, str | Path] | None, source: str,
-                     warnings: list[str], warn_unmapped: bool = True
+                     warnings: list[str], warn_unmapped: bool = True,
+                     roots: Roots | None = None
                      ) -> tuple[dict, dict[str, AdamsHardpoint], dict[str, Path]]:
     """A copy of ``config`` with the hardpoints ``mapping`` names taken from the subsystem file
     (:func:`apply_hardpoints`) and the stiffness of its bushings from their property files
     (:func:`bushing_sources`, on the mapping's side, else the config's). What was read
     tolerantly, and with ``warn_unmapped`` the hardpoints no section maps, is appended to
-    ``warnings``. Returns (config, the subsystem's hardpoint table, each bushing's file)."""
+    ``warnings``; the files named must lie inside ``roots`` (default: the subsystem's
+    database). Returns (config, the subsystem's hardpoint table, each bushing's file)."""
     points = read_hardpoints(subsystem, warnings)
     cfg, more = apply_hardpoints(config, points, mapping, source, warn_unmapped)
     warnings += more
-    files = bushing_sources(subsystem, mapping, mapping.side or cfg["side"], bushing_files)
+    files = bushing_sources(subsystem, mapping, mapping.side or cfg["side"], bushing_files,
+                            roots)
     props = {name: read_bushing(file) for name, file in files.items()}
     for p in props.values():
         warnings += p.warnings

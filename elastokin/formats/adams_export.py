@@ -26,6 +26,7 @@ bushing frame. Writers are deterministic except the TIMESTAMPs (the current time
 from __future__ import annotations
 
 import os
+import re
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import replace
@@ -45,10 +46,14 @@ from elastokin.formats.adams_axle import (
 from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
 from elastokin.formats.adams_property_files import bushing_file_text, spring_file_text
 from elastokin.formats.adams_subsystem import (
+    MINOR_ROLES,
     SubsystemSpec,
+    adams_role,
+    file_name,
     hardpoint_rows,
     safe_name,
     subsystem_text,
+    template_path,
 )
 from elastokin.formats.config_yaml import dump_config
 from elastokin.version import __version__
@@ -71,45 +76,57 @@ def export_timestamp() -> str:
     return time.strftime("%Y/%m/%d,%H:%M:%S", time.gmtime(t))
 
 
-def _shared_template(template: str) -> str:
-    """A bare template name (``_double_wishbone``, ``.tpl`` or not) as the one in
-    ``acar_shared``; a path as given."""
-    if "/" in template or "\\" in template:
-        return template
-    return f"mdids://acar_shared/templates.tbl/{template.removesuffix('.tpl')}.tpl"
-
-
 def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
                    database: str | None = None, template: str | None = None,
                    major_role: str | None = None, minor_role: str | None = None,
-                   warnings: list[str] | None = None) -> SubsystemSpec:
-    """The subsystem's name, template, roles and database alias: the arguments, else the
-    mapping file's ``subsystem`` section, else defaults (name: the config's name; database: the
-    subsystem's name; roles: suspension, front (an axle's ``vehicle.position``); template:
-    ``_<name>.tpl`` in the database, with a warning). A bare template name
-    (``_double_wishbone``) is taken in ``acar_shared``."""
+                   warnings: list[str] | None = None, default_database: str | None = None
+                   ) -> SubsystemSpec:
+    """The subsystem's name, template, roles and database alias: the arguments
+    (``export-adams``'s ``--database``, ``--template-name``, ``--major-role``,
+    ``--minor-role``), else the mapping file's ``subsystem`` section, else defaults (name: the
+    config's name; database: ``default_database``, else the subsystem's name; roles:
+    suspension, front (an axle's ``vehicle.position``); template: ``_<name>.tpl`` in the
+    database, with a warning). A bare template name (``_double_wishbone``) is taken in
+    ``acar_shared``. What is given must be what ADAMS/Car and ``import-adams`` read
+    (:func:`~elastokin.formats.adams_subsystem.template_path`, ``file_name``, ``adams_role``):
+    an error names the option or the mapping key."""
     sub = mapping.subsystem if mapping else {}
-    name = safe_name(sub.get("name") or s.name)
-    db = safe_name(database or sub.get("database") or name)
-    tpl = template or sub.get("template")
+
+    def given(arg: str | None, option: str, key: str) -> tuple[str | None, str]:
+        if arg is not None:
+            return arg, f"export-adams {option}"
+        return sub.get(key), f"{mapping.path if mapping else ''}: key 'subsystem.{key}'"
+
+    name, where = given(None, "", "name")
+    name = file_name(name, where) if name else safe_name(s.name)
+    db, where = given(database, "--database", "database")
+    db = file_name(db, where) if db else safe_name(default_database or name)
+    tpl, where = given(template, "--template-name", "template")
     if tpl:
-        tpl = _shared_template(tpl)
+        tpl = template_path(tpl, where)
     else:
-        tpl = f"mdids://{db}/templates.tbl/_{name}.tpl"
+        tpl = f"mdids://{db}/templates.tbl/_{re.sub(r'[^A-Za-z0-9_]', '_', name)}.tpl"
         if warnings is not None:
             warnings.append(f"no template given (export-adams --template-name, or "
                             f"'subsystem: template' in the mapping file): the subsystem names "
                             f"{tpl}, which ADAMS/Car needs to open it")
+    major, where = given(major_role, "--major-role", "major_role")
+    major = adams_role(major, ("suspension",), "the major role of a suspension subsystem",
+                       where) if major else "suspension"
+    minor, where = given(minor_role, "--minor-role", "minor_role")
     position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle else "front"
-    return SubsystemSpec(name, tpl, major_role or sub.get("major_role") or "suspension",
-                         minor_role or sub.get("minor_role") or position, db)
+    minor = adams_role(minor, MINOR_ROLES, "a minor role", where) if minor else position
+    return SubsystemSpec(name, tpl, major, minor, db)
 
 
 def _usages(names: Iterable[str], given: Mapping[str, str], what: str,
             source: str) -> dict[str, str]:
+    """Each bushing's or spring's USAGE: the mapping's (checked: it names the property file),
+    else its elastokin name made a file name."""
     out: dict[str, str] = {}
     for n in names:
-        usage = safe_name(given.get(n, n))
+        usage = file_name(given[n], f"{source}: key '{what}.{n}.usage'") if n in given else \
+            safe_name(n)
         if usage in out.values():
             other = next(k for k, v in out.items() if v == usage)
             raise ConfigError(f"{source}: {what} {other} and {n} both have the ADAMS usage "
@@ -122,16 +139,28 @@ def section_spec(s: Suspension, mapping: AdamsMapping | None, role: str,
                  suspension: SubsystemSpec) -> SubsystemSpec:
     """The anti-roll bar's or steering's subsystem: the mapping section's ``subsystem``, else
     ``<suspension name>_<role>``, ADAMS/Car's template and major role for it, the
-    suspension's minor role and database."""
+    suspension's minor role and database (what is given checked as by
+    :func:`subsystem_spec`)."""
     section = getattr(mapping, role, None) if mapping else None
     sub = section.subsystem if section else {}
     major, template = AXLE_ROLES[role]
-    tpl = _shared_template(sub.get("template") or template)
+
+    def where(key: str) -> str:
+        return f"{mapping.path if mapping else ''}: key '{role}.subsystem.{key}'"
+
     default = {"anti_roll_bar": "antiroll", "steering": "steering"}[role]
-    return SubsystemSpec(safe_name(sub.get("name") or f"{suspension.name}_{default}"), tpl,
-                         sub.get("major_role") or major,
-                         sub.get("minor_role") or suspension.minor_role,
-                         safe_name(sub.get("database") or suspension.database))
+    name = file_name(sub["name"], where("name")) if "name" in sub else \
+        f"{suspension.name}_{default}"
+    if "major_role" in sub:
+        major = adams_role(sub["major_role"], (major,),
+                           f"the major role of the {role.replace('_', '-')} subsystem",
+                           where("major_role"))
+    minor = adams_role(sub["minor_role"], MINOR_ROLES, "a minor role", where("minor_role")) \
+        if "minor_role" in sub else suspension.minor_role
+    db = file_name(sub["database"], where("database")) if "database" in sub else \
+        suspension.database
+    return SubsystemSpec(name, template_path(sub.get("template") or template,
+                                             where("template")), major, minor, db)
 
 
 def _section(mapping: AdamsMapping | None, role: str) -> AdamsMapping | None:
@@ -197,6 +226,17 @@ def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
     return dump_config(data, "\n".join(head), flow=False)
 
 
+def beam_warning(s: Suspension) -> str:
+    """What the export leaves out of a suspension with flexible beam parts."""
+    names = ", ".join(f"'{b.part}'" for b in s.beams)
+    return (f"the flexible beam part(s) {names} are not exported: ADAMS/Car takes a twist "
+            "beam's cross beam as a flexible body (an MNF from a finite-element model: "
+            "_twist_beam_advanced, configuration 'Flexible body') or as its template's own "
+            "beam parts, neither of which a subsystem file carries; its nodes are exported as "
+            "hardpoints and its section is written in the subsystem file's header comments, "
+            "and import-adams takes the beam from the template config")
+
+
 def _preloads(s: Suspension, bushing_preload):
     if bushing_preload is not None:
         return bushing_preload
@@ -229,8 +269,10 @@ def export_adams(s: Suspension, out_dir: str | Path,
         raise ConfigError(f"table range must be positive, got {range_mm} mm / {range_deg} deg")
     preload = _preloads(s, bushing_preload)
     force = spring_force or {}
-    spec = spec or subsystem_spec(s, mapping, Path(out_dir).name.removesuffix(".cdb"),
-                                  warnings=warnings)
+    spec = spec or subsystem_spec(s, mapping, warnings=warnings,
+                                  default_database=Path(out_dir).name.removesuffix(".cdb"))
+    if s.beams and warnings is not None:
+        warnings.append(beam_warning(s))
     parts = axle_subsystems(s)
     specs = {role: spec if role == "suspension" else section_spec(s, mapping, role, spec)
              for role in parts}

@@ -23,18 +23,18 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, other_side, reflected_law
+from elastokin.config.confined import Roots, confined_path
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_assemblies import read_bushing_assemblies
 from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
 from elastokin.formats.adams_car import (
     adams_to_config,
     clean,
-    database_file,
     import_subsystem,
     lookup_hardpoint,
     read_bushing,
-    subsystem_file,
 )
+from elastokin.formats.adams_database import database_file, input_roots, subsystem_file
 from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
 from elastokin.formats.teimorbit import read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
@@ -78,17 +78,22 @@ def subsystem_role(path: str | Path) -> tuple[str | None, str | None]:
             str(minor).strip().lower() if minor is not None else None)
 
 
-def assembly_subsystems(path: str | Path) -> list[tuple[Path, int]]:
+def assembly_subsystems(path: str | Path, roots: Roots | None = None
+                        ) -> list[tuple[Path, int]]:
     """The subsystem files an ADAMS/Car assembly (``.asy``) names in its ``[SUBSYSTEM]``
     blocks (``USAGE``, an ``mdids://`` or ``<alias>/`` path taken in the database holding the
-    assembly, or a path relative to it), with the line of each."""
+    assembly, or a path relative to it; inside ``roots``, default that database), with the
+    line of each."""
     f = read_teimorbit(path, convert=False)
     out = []
     for b in f.blocks_named("SUBSYSTEM"):
         usage = b.value("USAGE")
         if not isinstance(usage, str) or not usage.strip():
             raise f.error(b.line, b.name, "USAGE = 'subsystem file' is missing")
-        out.append((database_file(usage, path), b.entries["USAGE"].line))
+        line = b.entries["USAGE"].line
+        out.append((database_file(usage, path, f"{f.path}, line {line}, block [SUBSYSTEM]",
+                                  roots, "the subsystem file (USAGE)", must_exist=False),
+                    line))
     if not out:
         raise ConfigError(f"{f.path}: no [SUBSYSTEM] block: not an ADAMS/Car assembly file")
     return out
@@ -108,33 +113,44 @@ def _pick(found: dict[str, list[tuple[Path, str | None]]], section: str, minor: 
 
 def subsystem_files(mapping: AdamsMapping, hardpoints: str | Path | None = None,
                     assembly: str | Path | None = None, subsystems: Sequence[str | Path] = (),
-                    minor_role: str | None = None) -> SubsystemFiles:
+                    minor_role: str | None = None, roots: Roots | None = None
+                    ) -> SubsystemFiles:
     """Which file is which subsystem: ``hardpoints`` (a subsystem file or an ADAMS/Car
     database) for the suspension, with the mapping's other subsystems found beside it by
     their names, or ``assembly`` (the subsystems it names); ``subsystems``: files whose
     ``[SUBSYSTEM_HEADER]`` says their major role (``antirollbar``, ``steering``), taken before
     those found by name. Of several subsystems of one role, the one of ``minor_role`` (front,
-    rear) is taken."""
+    rear) is taken. A file found from another must lie inside ``roots`` (default: the
+    databases of the files given and the mapping's folder)."""
     found: dict[str, list[tuple[Path, str | None]]] = {}
     role = cache(subsystem_role)  # each file read once
     what = str(assembly or hardpoints)
+    if roots is None:
+        roots = input_roots([hardpoints, assembly, *subsystems, mapping.path])
     listed: list[tuple[Path, str]] = []
     if assembly is not None:
-        for path, line in assembly_subsystems(assembly):
+        for path, line in assembly_subsystems(assembly, roots):
+            where = f"{assembly}, line {line}, block [SUBSYSTEM]"
             if not path.is_file():
-                raise ConfigError(f"{assembly}, line {line}, block [SUBSYSTEM]: the subsystem "
-                                  f"file {path} does not exist")
+                raise ConfigError(f"{where}: the subsystem file {path} does not exist")
+            if path.suffix.lower() == ".asy" or path.resolve() == Path(assembly).resolve():
+                raise ConfigError(f"{where}: USAGE names an assembly ({path}), not a subsystem "
+                                  "file: an assembly of assemblies is not read")
             listed.append((path, f"{assembly}, line {line}"))
     listed += [(Path(p), str(p)) for p in subsystems]
     if hardpoints is not None:
-        main = subsystem_file(hardpoints, mapping.subsystem.get("name"))
+        main = subsystem_file(hardpoints, mapping.subsystem.get("name"), roots)
         found["suspension"] = [(main, minor_role)]
         given = {role(p)[0] for p, _ in listed}
         for section, m in mapping.sections().items():
             # the mapping's other subsystems beside the suspension's, unless given
-            path = main.parent / f"{m.subsystem.get('name')}.sub"
             major = next(k for k, v in ROLE_SECTIONS.items() if v == section)
-            if section != "suspension" and major not in given and path.is_file():
+            if section == "suspension" or major in given:
+                continue
+            path = confined_path(f"{m.subsystem.get('name')}.sub", main.parent, roots,
+                                 f"{mapping.path}: key '{section}.subsystem.name'",
+                                 "subsystem file")
+            if path.is_file():
                 listed.append((path, str(hardpoints)))
     for path, where in listed:
         major, minor = role(path)
@@ -173,7 +189,8 @@ def _other_side_hardpoints(cfg: dict, points, mapping: AdamsMapping) -> None:
             over[name] = [clean(v) for v in q]
 
 
-def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Path]:
+def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping,
+                         roots: Roots | None) -> list[Path]:
     """Where a bushing's ``right`` and ``left`` blocks name different property files: the
     other side's laws, as ``axle.other_side.connections`` overrides of the directions that
     are not the mirror of the config side's. Returns the files read."""
@@ -186,7 +203,8 @@ def _other_side_bushings(cfg: dict, sub: Path, mapping: AdamsMapping) -> list[Pa
         a, b = sides.get(side), sides.get(other_side(side))
         if a is not None and b is not None and a.property_file != b.property_file and \
                 b.property_file:
-            path = database_file(b.property_file, sub)
+            path = database_file(b.property_file, sub, b.where(sub, b.symmetry), roots,
+                                 "PROPERTY_FILE")
             read.append(path)
             other = read_bushing(path).stiffness
             this = cfg["connections"][name]["stiffness"]
@@ -206,31 +224,37 @@ def _mirrored(spec, direction: str):
 
 
 def _import_section(cfg: dict, sub: Path, m: AdamsMapping, bushing_files, source: str,
-                    warnings: list[str], warn_unmapped: bool = False
+                    warnings: list[str], roots: Roots, warn_unmapped: bool = False
                     ) -> tuple[dict, list[Path]]:
     """The hardpoints and bushings of one section's subsystem, on an axle both sides (the
     other side's as ``axle.other_side`` overrides). Returns (config, the files read)."""
     cfg, points, files = import_subsystem(cfg, sub, m, bushing_files, source, warnings,
-                                          warn_unmapped)
+                                          warn_unmapped, roots)
     if "axle" not in cfg:
         return cfg, list(files.values())
     cfg["axle"] = dict(cfg["axle"] or {})
     _other_side_hardpoints(cfg, points, m)
-    return cfg, [*files.values(), *_other_side_bushings(cfg, sub, m)]
+    return cfg, [*files.values(), *_other_side_bushings(cfg, sub, m, roots)]
 
 
 def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str | Path,
                       bushing_files: Mapping[str, str | Path] | None = None,
-                      source: str = "template config") -> tuple[dict, list[str], list[Path]]:
+                      source: str = "template config", roots: Roots | None = None
+                      ) -> tuple[dict, list[str], list[Path]]:
     """An elastokin config dict from an axle's ADAMS/Car subsystems (module docstring):
     ``template`` (a corner, or an axle config) with the hardpoints and bushings of every
     section of the mapping file, and on an axle its other side, anti-roll bar and steering.
-    Returns (config, warnings, the property and curve files read). Not yet validated."""
-    mapping = read_mapping(mapping_file)
+    Every file a file names must lie inside ``roots`` (default: the databases of ``files`` and
+    the mapping file's folder). Returns (config, warnings, the property and curve files
+    read). Not yet validated."""
+    if roots is None:
+        roots = input_roots([files.suspension, files.anti_roll_bar, files.steering,
+                             mapping_file])
+    mapping = read_mapping(mapping_file, roots)
     warnings: list[str] = []
     # every bushing file given is taken in the suspension's step; a section's again in its own
     cfg, read = _import_section(template, files.suspension, mapping, bushing_files, source,
-                                warnings, warn_unmapped=True)
+                                warnings, roots, warn_unmapped=True)
     sections = mapping.sections()
     if "axle" not in cfg and len(sections) > 1:
         keys = ", ".join(k for k in sections if k != "suspension")
@@ -254,7 +278,7 @@ def import_adams_axle(template: dict, files: SubsystemFiles, mapping_file: str |
                               f"axle.{section} to take it")
         given = {k: v for k, v in (bushing_files or {}).items()
                  if k in m.bushings or k in m.bushing_usage}
-        cfg, more = _import_section(cfg, sub, m, given, source, warnings)
+        cfg, more = _import_section(cfg, sub, m, given, source, warnings, roots)
         read += more
         read += _section_values(cfg, section, sub, m)
     _tidy(cfg)
@@ -265,12 +289,13 @@ def _section_values(cfg: dict, section: str, sub: Path, m: AdamsMapping) -> list
     """The anti-roll bar's rate or curve, the steering's ratio or curve and travel limit."""
     spec = cfg["axle"][section] = dict(cfg["axle"][section])
     params = read_parameters(sub)
+    curve = m.curve_file()  # inside the folders given
     if section == "anti_roll_bar":
-        if m.curve is not None:
-            u, f = read_curve(m.curve, ("rot", "torque"))
+        if curve is not None:
+            u, f = read_curve(curve, ("rot", "torque"))
             spec.pop("rate_Nmm_per_deg", None)
             spec["curve"] = {"deflection": u, "load": f}
-            return [m.curve]
+            return [curve]
         spec.pop("curve", None)
         spec["rate_Nmm_per_deg"] = params.positive(m.parameters["stiffness"],
                                                    "rotational_stiffness",
@@ -278,11 +303,11 @@ def _section_values(cfg: dict, section: str, sub: Path, m: AdamsMapping) -> list
         return []
     spec["limit_mm"] = params.positive(m.parameters["travel_limit"], "length",
                                        "the rack's travel limit each way")
-    if m.curve is not None:
-        u, x = read_curve(m.curve, ("rot", "disp"))
+    if curve is not None:
+        u, x = read_curve(curve, ("rot", "disp"))
         spec.pop("ratio_mm_per_rev", None)
         spec["ratio_curve"] = {"steering_wheel_deg": u, "rack_travel_mm": x}
-        return [m.curve]
+        return [curve]
     spec.pop("ratio_curve", None)
     spec["ratio_mm_per_rev"] = rack_ratio_check(params, m.parameters["rack_ratio"])
     return []

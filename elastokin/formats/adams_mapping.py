@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from elastokin.config.confined import Roots, confined_path, resolved
 from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError
 
@@ -74,26 +75,45 @@ PARAMETER_KEYS: dict[str, dict[str, str]] = {
 @dataclass(frozen=True)
 class AdamsMapping:
     """A mapping file: elastokin hardpoint -> (ADAMS hardpoint, side or None for the default);
-    elastokin bushing -> property file (``.bus`` or ``.xml``, resolved against the mapping
-    file's folder) and ADAMS usage; elastokin spring -> ADAMS usage; ``subsystem``: the
-    subsystem file's name, template, major and minor role, database (export).
+    elastokin bushing -> property file (``.bus`` or ``.xml``, as written: relative to the
+    mapping file's folder; the path: :meth:`bushing_file`) and ADAMS usage; elastokin spring ->
+    ADAMS usage; ``subsystem``: the subsystem file's name, template, major and minor role,
+    database (export).
 
     An axle's ``anti_roll_bar`` and ``steering`` subsystems are mappings of their own (None:
-    not given; their items are then in the suspension's), with ``parameters`` (role ->
-    ADAMS ``[PARAMETER]`` name, :data:`PARAMETER_KEYS`) and ``curve`` (an elastokin curve
-    file, relative to the mapping file: the bar's torque curve or the rack ratio curve)."""
+    not given; their items are then in the suspension's; ``key``: their keys' prefix), with
+    ``parameters`` (role -> ADAMS ``[PARAMETER]`` name, :data:`PARAMETER_KEYS`) and ``curve``
+    (an elastokin curve file as written, relative to the mapping file: the bar's torque curve
+    or the rack ratio curve; the path: :meth:`curve_file`). The files it names must lie in
+    ``roots`` (its folder and the databases it was read with)."""
 
     path: str
     side: str | None
     hardpoints: dict[str, tuple[str, str | None]]
-    bushings: dict[str, Path]
+    bushings: dict[str, str]
     bushing_usage: dict[str, str] = field(default_factory=dict)
     spring_usage: dict[str, str] = field(default_factory=dict)
     subsystem: dict[str, str] = field(default_factory=dict)
     anti_roll_bar: AdamsMapping | None = None
     steering: AdamsMapping | None = None
     parameters: dict[str, str] = field(default_factory=dict)
-    curve: Path | None = None
+    curve: str | None = None
+    key: str = ""
+    roots: Roots | None = None
+
+    def _named(self, key: str, text: str, what: str) -> Path:
+        folder = Path(self.path).parent
+        roots = self.roots or Roots.of([folder], f"the mapping file's folder {folder}")
+        return confined_path(text, folder, roots, f"{self.path}: key '{self.key}{key}'", what)
+
+    def bushing_file(self, name: str) -> Path:
+        """The property file of bushing ``name``, inside :attr:`roots` (links and ``..``
+        followed; nothing is opened)."""
+        return self._named(f"bushings.{name}.file", self.bushings[name], "property file")
+
+    def curve_file(self) -> Path | None:
+        """The curve file, inside :attr:`roots` (None: none given)."""
+        return None if self.curve is None else self._named("curve", self.curve, "curve file")
 
     def sections(self) -> dict[str, AdamsMapping]:
         """The mapping of each subsystem given: ``suspension`` (this one), ``anti_roll_bar``,
@@ -173,7 +193,8 @@ def _subsystem(p: str, subsystem, prefix: str = "") -> dict[str, str]:
     return {k: str(v).strip() for k, v in subsystem.items()}
 
 
-def _section(path: str | Path, data, key: str, side: str | None) -> AdamsMapping | None:
+def _section(path: str | Path, data, key: str, side: str | None,
+             roots: Roots | None) -> AdamsMapping | None:
     """The ``anti_roll_bar`` or ``steering`` section: a mapping of its own subsystem."""
     if data is None:
         return None
@@ -193,18 +214,23 @@ def _section(path: str | Path, data, key: str, side: str | None) -> AdamsMapping
     hardpoints = _hardpoints(p, hps, f"{key}.") if hps is not None else {}
     bushings = _named(p, f"{key}.bushings", data.get("bushings"), ("file", "usage"))
     return AdamsMapping(
-        p, side, hardpoints,
-        {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
+        p, side, hardpoints, {n: b["file"] for n, b in bushings.items() if "file" in b},
         {n: b["usage"] for n, b in bushings.items() if "usage" in b}, {},
         _subsystem(p, data.get("subsystem"), f"{key}."),
         parameters={k: data.get(k, default).strip() for k, default in params.items()},
-        curve=Path(path).parent / data["curve"].strip() if "curve" in data else None)
+        curve=data["curve"].strip() if "curve" in data else None, key=f"{key}.", roots=roots)
 
 
-def read_mapping(path: str | Path) -> AdamsMapping:
-    """Read a mapping file (YAML, see ``docs/adams.md``)."""
+def read_mapping(path: str | Path, roots: Roots | None = None) -> AdamsMapping:
+    """Read a mapping file (YAML, see ``docs/adams.md``). The files it names (bushing property
+    files, curve files, relative to its folder) must lie inside its folder or ``roots`` (the
+    databases given with it), links and ``..`` followed, when they are asked for
+    (:meth:`AdamsMapping.bushing_file`, :meth:`AdamsMapping.curve_file`)."""
     data, _ = read_yaml(path, "ADAMS mapping file")  # strict YAML: no key twice
     p = str(path)
+    if roots is not None and not roots.hold(resolved(Path(path).parent)):
+        roots = roots.including([Path(path).parent], f"{roots.what} and the mapping file's "
+                                                     "folder")
     for key in data:
         if key not in _MAPPING_KEYS:
             raise _fail(p, str(key), f"unknown key (expected {', '.join(_MAPPING_KEYS)})")
@@ -217,10 +243,9 @@ def read_mapping(path: str | Path) -> AdamsMapping:
     bushings = _named(p, "bushings", data.get("bushings"), ("file", "usage"))
     springs = _named(p, "springs", data.get("springs"), ("usage",))
     return AdamsMapping(
-        p, side, hardpoints,
-        {n: Path(path).parent / b["file"] for n, b in bushings.items() if "file" in b},
+        p, side, hardpoints, {n: b["file"] for n, b in bushings.items() if "file" in b},
         {n: b["usage"] for n, b in bushings.items() if "usage" in b},
         {n: s["usage"] for n, s in springs.items()},
         _subsystem(p, data.get("subsystem")),
-        anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side),
-        steering=_section(path, data.get("steering"), "steering", side))
+        anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side, roots),
+        steering=_section(path, data.get("steering"), "steering", side, roots), roots=roots)

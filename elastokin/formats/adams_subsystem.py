@@ -28,23 +28,79 @@ from elastokin.formats.adams_mapping import AdamsMapping, config_to_adams
 from elastokin.formats.adams_property_files import UNITS_LINES, key_line, number, provenance, rule
 
 __all__ = [
+    "MAJOR_ROLES",
+    "MINOR_ROLES",
     "AssemblyRow",
     "HardpointRow",
     "ParameterRow",
     "SubsystemSpec",
     "adams_name",
     "hardpoint_rows",
+    "file_name",
     "parameter_lines",
+    "adams_role",
     "safe_name",
     "subsystem_text",
+    "template_path",
 ]
 
 _PREFIX = {"hpl_": "left", "hpr_": "right", "hps_": "single"}
+
+#: ADAMS/Car's major roles, as real Adams/Car assemblies name them (``../shared/adams_real``:
+#: the MDI demo vehicle's and FSAE assemblies' ``[SUBSYSTEM]`` blocks) and ``environment``;
+#: elastokin writes the first three
+MAJOR_ROLES = ("suspension", "antirollbar", "steering", "wheel", "body", "powertrain",
+               "brake_system", "environment")
+#: ADAMS/Car's minor roles: where on the vehicle (``any``: not tied to an axle)
+MINOR_ROLES = ("front", "rear", "trailer", "any")
+#: a file or database name elastokin writes: letters, digits, ``_ . -``
+_FILE_NAME = re.compile(r"[A-Za-z0-9_.-]+")
+#: a template name (ADAMS/Car's are identifiers, e.g. ``_double_wishbone``)
+_IDENTIFIER = r"[A-Za-z_][A-Za-z0-9_]*"
+_TEMPLATE = re.compile(rf"(?:mdids://([A-Za-z0-9_.-]+)/|<([A-Za-z0-9_.-]+)>/)templates\.tbl/"
+                       rf"({_IDENTIFIER})\.tpl")
 
 
 def safe_name(name: str) -> str:
     """A name usable as an ADAMS file name or USAGE: letters, digits, ``_ . -``."""
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "elastokin"
+
+
+def file_name(name: str, where: str) -> str:
+    """``name`` as given when it is a file name elastokin writes (letters, digits, ``_ . -``);
+    otherwise an error naming ``where`` (the option or key that gives it)."""
+    if not _FILE_NAME.fullmatch(name):
+        raise ConfigError(f"{where}: {name!r} is not a name ADAMS/Car files can carry: use "
+                          f"letters, digits, '_', '.' and '-' (e.g. {safe_name(name)!r})")
+    return name
+
+
+def template_path(template: str, where: str) -> str:
+    """The ``TEMPLATE_NAME`` of a subsystem: a bare template name (``_double_wishbone``,
+    ``.tpl`` or not: the one in ``acar_shared``) or ``mdids://<database>/templates.tbl/
+    <name>.tpl`` (or ``<database>/templates.tbl/...``); the name an identifier. Otherwise an
+    error naming ``where``."""
+    bare = template.removesuffix(".tpl")
+    if re.fullmatch(_IDENTIFIER, bare):
+        return f"mdids://acar_shared/templates.tbl/{bare}.tpl"
+    if not _TEMPLATE.fullmatch(template):
+        raise ConfigError(f"{where}: template {template!r}: expected a template name (an "
+                          "identifier: letters, digits and '_', not starting with a digit, e.g. "
+                          "_double_wishbone) or mdids://<database>/templates.tbl/<name>.tpl")
+    return template
+
+
+def adams_role(value: str, allowed: tuple[str, ...], what: str, where: str) -> str:
+    """A major or minor role (case-insensitive, written in lower case) that is one of
+    ``allowed``; otherwise an error naming ``where``, ``what`` it is for and ADAMS/Car's role
+    names."""
+    v = value.strip().lower()
+    if v in allowed:
+        return v
+    names = MAJOR_ROLES if allowed[0] in MAJOR_ROLES else MINOR_ROLES
+    known = f"ADAMS/Car's: {', '.join(names)}"
+    expected = f"'{allowed[0]}'" if len(allowed) == 1 else ", ".join(allowed)
+    raise ConfigError(f"{where}: {value!r} is not {what} (expected {expected}; {known})")
 
 
 @dataclass(frozen=True)
@@ -216,6 +272,7 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
              "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
              "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
              "$ design position, bushing frame, on the I part; orientations are the template's.",
+             *(beam_lines(s) if spec.major_role == "suspension" else []),
              rule("MDI_HEADER"), "[MDI_HEADER]", key_line("FILE_TYPE", "sub", 12),
              key_line("FILE_VERSION", 7.0, 12), key_line("FILE_FORMAT", "ASCII", 12),
              rule("SUBSYSTEM_HEADER"), "[SUBSYSTEM_HEADER]",
@@ -238,3 +295,21 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
         lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", sp)
     lines += parameter_lines(parameters or [])
     return "\n".join(lines) + "\n"
+
+
+def beam_lines(s: Suspension) -> list[str]:
+    """Comment lines giving each flexible beam part, which the file does not carry (ADAMS/Car
+    takes a flexible part as a flexible body or its template's own beams): its nodes (the
+    hardpoints above) and section, to rebuild it."""
+    out = []
+    for b in s.beams:
+        sec = b.section
+        out += [f"$ NOT EXPORTED: elastokin flexible beam part '{b.part}' (beam elements), nodes "
+                f"{', '.join(b.node_names)} (hardpoints above), {b.elements_per_segment} "
+                "elements per segment;",
+                f"$   section: EA {sec.EA_N:.6g} N, EI_y {sec.EI_y_Nmm2:.6g} N*mm^2, EI_z "
+                f"{sec.EI_z_Nmm2:.6g} N*mm^2, GJ {sec.GJ_Nmm2:.6g} N*mm^2, GA_y {sec.GA_y_N:.6g} "
+                f"N, GA_z {sec.GA_z_N:.6g} N;",
+                "$   shear centre from the node line (config frame, mm, per segment): "
+                + "; ".join(" ".join(number(v) for v in e) for e in b.shear_centre_mm)]
+    return out

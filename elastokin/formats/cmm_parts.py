@@ -6,13 +6,15 @@ frame, unordered) and, for synthetic data, the as-built truth."""
 from __future__ import annotations
 
 import fnmatch
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import yaml
 
+from elastokin.config.confined import data_file
 from elastokin.config.loading import read_yaml
+from elastokin.config.suspension import Suspension
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm import read_points
 
@@ -27,6 +29,33 @@ class PartMeasurement:
     points: dict[str, np.ndarray]  # hardpoint -> centre
     axes: dict[str, np.ndarray]  # hardpoint -> unit axis (``<label>.Z`` line)
     radials: dict[str, np.ndarray]  # hardpoint -> unit radial (``<label>.X`` line)
+    labels: dict[str, str] = field(default_factory=dict)  # hardpoint -> its label in the file
+
+    def label(self, hardpoint: str, suffix: str = "") -> str:
+        """The label ``hardpoint`` has in the file (+ ``suffix``: ``.Z``, ``.X`` for its
+        lines), quoted, and where the label comes from (messages)."""
+        label = f"'{self.labels.get(hardpoint, hardpoint)}{suffix}'"
+        if hardpoint in self.labels:
+            label += (f" (measurements.parts.{self.part}.labels gives "
+                      f"'{self.labels[hardpoint]}' for hardpoint '{hardpoint}')")
+        return label
+
+
+def measurement_paths(s: Suspension, folder: str | Path | None = None) -> dict[str, Path]:
+    """The CMM files of the config's ``measurements`` section: per part its file, then
+    ``assembly`` and (synthetic data) ``truth``, in its folder or in ``folder`` (typed on
+    the command line); each confined to the config's folders
+    (:func:`elastokin.config.confined.data_file`), none opened."""
+    m = s.measurements
+    if m is None:
+        return {}
+    out = {p: data_file(s, "measurements", spec.file, f"measurements.parts.{p}.file", folder)
+           for p, spec in m.parts.items()}
+    out["assembly"] = data_file(s, "measurements", m.assembly.file,
+                                "measurements.assembly.file", folder)
+    if m.truth is not None:
+        out["truth"] = data_file(s, "measurements", m.truth, "measurements.truth", folder)
+    return out
 
 
 def _unit(seg: np.ndarray) -> np.ndarray:
@@ -34,9 +63,9 @@ def _unit(seg: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def read_part(part: str, spec, folder: Path) -> PartMeasurement:
+def read_part(part: str, spec, path: Path) -> PartMeasurement:
     """Read a part's file; labels -> marks and hardpoints (see ``docs/measurements.md``)."""
-    data = read_points(folder / spec.file)
+    data = read_points(path)
     missing = [m for m in spec.marks if m not in data.points]
     if missing:
         raise MeasurementError(
@@ -54,12 +83,12 @@ def read_part(part: str, spec, folder: Path) -> PartMeasurement:
         if base and target is not None:
             target[to_hardpoint.get(base, base)] = _unit(seg)
     marks = np.array([data.points[m] for m in spec.marks])
-    return PartMeasurement(part, data.source, marks, points, axes, radials)
+    return PartMeasurement(part, data.source, marks, points, axes, radials, dict(spec.labels))
 
 
-def read_assembly(spec, folder: Path, parts: list[str]) -> tuple[str, dict[str, np.ndarray]]:
+def read_assembly(spec, path: Path, parts: list[str]) -> tuple[str, dict[str, np.ndarray]]:
     """The assembled marks of each part (unordered), selected by the label patterns."""
-    data = read_points(folder / spec.file)
+    data = read_points(path)
     out: dict[str, list] = {p: [] for p in parts}
     for label in data.order:
         owners = [p for p in parts if fnmatch.fnmatchcase(label, spec.marks[p])]
@@ -86,3 +115,16 @@ def read_truth(path: Path) -> dict[str, np.ndarray]:
         return {k: np.asarray(v, float) for k, v in data["joints"].items()}
     except (OSError, yaml.YAMLError, KeyError, TypeError, ValueError) as exc:
         raise MeasurementError(f"{path}: unreadable truth file ({exc})") from None
+
+
+def read_measurements(s: Suspension) -> tuple[dict[str, PartMeasurement], str,
+                                              dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Every file of the config's ``measurements`` section (:func:`measurement_paths`: none
+    outside the config's folders is opened): each part measured alone, the assembly file's
+    name and its marks per part, and the synthetic truth's joints (empty without one)."""
+    m = s.measurements
+    files = measurement_paths(s)
+    parts = {p: read_part(p, spec, files[p]) for p, spec in m.parts.items()}
+    assembly_file, assembled = read_assembly(m.assembly, files["assembly"], list(m.parts))
+    truth = read_truth(files["truth"]) if "truth" in files else {}
+    return parts, assembly_file, assembled, truth

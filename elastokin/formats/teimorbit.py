@@ -156,6 +156,7 @@ def _show(text: str, limit: int = 60) -> str:
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")
 _NAME = r"[A-Za-z_][A-Za-z0-9_]*"
 _KEY_LINE = re.compile(rf"({_NAME})\s*=\s*(.*)")
+_BLOCK_HEADER = re.compile(r"\[\s*([^\[\]]*?)\s*\]")
 
 
 def _strip_comment(text: str) -> tuple[str, str | None]:
@@ -213,6 +214,8 @@ class _Parser:
 
     def feed(self, n: int, raw: str) -> None:
         line, open_quote = _strip_comment(raw)
+        if self.block is None:
+            return self.before_first_block(n, line.strip(), open_quote)
         if open_quote:
             raise self.error(n, f"unclosed quote {open_quote} in {_show(raw.strip())}")
         line = line.strip()
@@ -220,9 +223,6 @@ class _Parser:
             return
         if line.startswith("["):
             return self.start_block(n, line)
-        if self.block is None:
-            raise self.error(n, f"{_show(line)} comes before the first [BLOCK] header (not a "
-                             "TeimOrbit file?)")
         if line.startswith("("):
             return self.start_sub_block(n, line)
         if line.startswith("{"):
@@ -236,8 +236,21 @@ class _Parser:
                              "comment)")
         self.row(n, line)
 
+    def before_first_block(self, n: int, line: str, open_quote: str | None) -> None:
+        """Up to its first ``[BLOCK]`` header a file has not shown itself to be TeimOrbit:
+        an error there names the line but never shows it (the file may be anything)."""
+        if not line and not open_quote:
+            return
+        header = _BLOCK_HEADER.fullmatch(line)
+        if not open_quote and header and header.group(1):
+            return self.start_block(n, line)
+        what = "a malformed block header" if line.startswith("[") else \
+            "a line that is neither a $ comment nor a [BLOCK] header"
+        raise self.error(n, f"{what} comes before the first [BLOCK] header (expected [NAME]): "
+                         "not a TeimOrbit file? (its text is not shown)")
+
     def start_block(self, n: int, line: str) -> None:
-        m = re.fullmatch(r"\[\s*([^\[\]]*?)\s*\]", line)
+        m = _BLOCK_HEADER.fullmatch(line)
         if not m or not m.group(1):
             raise self.error(n, f"malformed block header {_show(line)} (expected [NAME])")
         self.block = Block(m.group(1).upper(), n)
@@ -327,6 +340,9 @@ def decode_text(data: bytes, path: str, what: str = "a TeimOrbit text file"
     """The text of a file and its warnings: UTF-8 (a byte-order mark dropped); a file whose only
     non-UTF-8 bytes are in ``$`` comments (Windows-1252, as ADAMS on Windows writes a degree
     sign) is read as Windows-1252 with a warning; anything else is an error naming the line."""
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):  # a UTF-16 byte-order mark (Windows Notepad)
+        raise ConfigError(f"{path}: UTF-16 text; expected {what} in UTF-8 (or Windows-1252): "
+                          "save it as UTF-8")
     bad = data.find(b"\0")  # a NUL byte: binary data
     if bad < 0:
         try:
@@ -354,6 +370,9 @@ def read_teimorbit(path: str | Path, convert: bool = True) -> TeimOrbitFile:
         raise ConfigError(f"{p}: cannot read file ({exc.strerror})") from None
     text, warnings = decode_text(data, str(p))
     f = parse_teimorbit(text, str(p))
+    if not f.blocks:
+        raise ConfigError(f"{p}: " + ("empty file" if not text.strip() else "only $ comments")
+                          + ": no [BLOCK] (expected a TeimOrbit file)")
     f.warnings[:0] = warnings
     if f.blocks_named("UNITS"):
         f.units = _units(f, f.block("UNITS"))
@@ -412,7 +431,8 @@ def _convert_table(f: TeimOrbitFile, block: Block, t: Table) -> None:
             if k is None:
                 continue
             if not isinstance(row[j], float):
-                raise f.error(n, block.name, f"column {t.columns[j]} of {t.header}: "
+                named = f"row '{row[0]}': " if isinstance(row[0], str) and j else ""
+                raise f.error(n, block.name, f"{named}column {t.columns[j]} of {t.header}: "
                               f"{row[j]!r} is not a number")
             new[j] = _scaled(row[j], k)
         t.rows[i] = tuple(new)

@@ -39,7 +39,6 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -48,7 +47,7 @@ from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, corner
 from elastokin.errors import ConfigError, MeasurementError
-from elastokin.formats.cmm_parts import PartMeasurement, read_assembly, read_part, read_truth
+from elastokin.formats.cmm_parts import PartMeasurement, read_measurements
 from elastokin.physics.pose import (
     MarkMatch,
     deflection_operator,
@@ -194,10 +193,10 @@ class _Features:
         pm = self.parts[part]
         table = self._table(kind, part)
         if hp not in table:
-            label = {"point": hp, "axis": f"{hp}.Z", "radial": f"{hp}.X"}[kind]
+            label = pm.label(hp, {"point": "", "axis": ".Z", "radial": ".X"}[kind])
             entity = "point" if kind == "point" else "line"
             raise MeasurementError(f"{pm.source}: part '{part}': no {entity} labelled "
-                                   f"'{label}' ({what})")
+                                   f"{label} ({what})")
         v = table[hp]
         pose = self.poses[part]
         return pose.point(v) if kind == "point" else pose.R @ v
@@ -238,10 +237,8 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
     if m is None:
         raise ConfigError(f"{s.source}: no 'measurements' section: nothing to identify")
     check_measurements(s, m, "measurements")
-    folder = Path(s.source).parent / m.folder
     progress("reading measurements")
-    parts = {p: read_part(p, spec, folder) for p, spec in m.parts.items()}
-    assembly_file, assembled = read_assembly(m.assembly, folder, list(m.parts))
+    parts, assembly_file, assembled, truth = read_measurements(s)
     sources = {p: pm.source for p, pm in parts.items()}
     sources["assembly"] = assembly_file
     progress("part poses")
@@ -254,11 +251,9 @@ def identify(suspension: Suspension, progress: Callable[[str], None] = lambda m:
     initial_cfg["design"] = {**design, "balance_bushing_preloads": False}
     # identified deflections [22-23] come from the model held at the measured poses
     ident_cfg["design"] = {**design, "balance_bushing_preloads": bool(s.bushings)}
-    if m.truth is not None:  # the synthetic truth, when there is one
-        truth = read_truth(folder / m.truth)
-        for name, j in geo.joints.items():
-            if name in truth:
-                j.truth_mm = truth[name]
+    for name, j in geo.joints.items():  # the synthetic truth, when there is one
+        if name in truth:
+            j.truth_mm = truth[name]
     return Identification(s, poses, geo.joints, initial_cfg, ident_cfg,
                           warnings=warnings + geo.warnings, sources=sources,
                           outer_frames={k: v[1] for k, v in geo.bushing_frames.items()})

@@ -49,6 +49,7 @@ from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
 from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, add_stop
+from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
 from elastokin.physics.states import PartPoses
@@ -157,6 +158,8 @@ class SuspensionModel:
         self.ref: dict[str, np.ndarray] = {s.ground: np.zeros(3)}
         self._add_bodies()
         self.node = {n: mbs.GetObject(b)["nodeNumber"] for n, b in self.body.items()}
+        #: the flexible parts (beam elements), by part name
+        self.beams = {b.part: BeamBody(mbs, b) for b in s.beams if not b.rigid}
         self.joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
                                                j.constrained, j.offset_mm, j.part_shift_mm)
                        for j in s.joints}
@@ -192,9 +195,12 @@ class SuspensionModel:
     def _add_bodies(self) -> None:
         s, mbs = self.suspension, self.mbs
         points = self._part_points()
+        flexible = {b.part for b in s.beams if not b.rigid}
         for name, part in s.parts.items():
             if not points.get(name):
                 raise ModelError(f"{s.source}: part '{name}' is not connected to anything")
+            if name in flexible:
+                continue
             if part.centre_of_mass is not None:
                 ref = np.asarray(s.hardpoints[part.centre_of_mass] if isinstance(
                     part.centre_of_mass, str) else part.centre_of_mass, float)
@@ -257,12 +263,16 @@ class SuspensionModel:
 
     def rigid_marker(self, part: str, position: np.ndarray, frame: np.ndarray) -> int:
         """A rigid marker on ``part`` at ``position`` (mm, config frame, design position)
-        with axes ``frame`` (columns)."""
+        with axes ``frame`` (columns); on a beam part, at one of its named nodes."""
+        if part in self.beams:
+            return self.beams[part].rigid_marker(position, frame)
         local = np.asarray(position) - self.ref[part]
         return self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body_or_ground(part),
                                                   localHT=exu.HT(np.asarray(frame), local)))
 
     def position_marker(self, part: str, position: np.ndarray) -> int:
+        if part in self.beams:
+            return self.beams[part].position_marker(position)
         local = np.asarray(position) - self.ref[part]
         return self.mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body_or_ground(part),
                                                      localPosition=local))
@@ -387,7 +397,7 @@ class SuspensionModel:
         position: a start close to the solution for a model whose design state is far from
         equilibrium (:func:`elastokin.mbs.design.settle_by_continuation`)."""
         q = np.asarray(coordinates, float)
-        for node in self.node.values():
+        for node in [*self.node.values(), *(n for b in self.beams.values() for n in b.nodes)]:
             i0 = self.mbs.GetNodeODE2Index(node)
             self.mbs.SetNodeParameter(node, "initialCoordinates", q[i0:i0 + 6].tolist())
         exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: setting the start")
@@ -418,6 +428,21 @@ class SuspensionModel:
         for name, v in values.items():
             self.bushings[name]["parametric"].apply(v)
             self.initial_deflection[name] = np.asarray(v[2], float).copy()
+
+    @property
+    def absolute_tolerance(self) -> float:
+        """The Newton solver's absolute tolerance (N, N*mm, mm): :data:`ABSOLUTE_TOLERANCE`, or
+        above the round-off floor of a model with beams (their stiff elements' residual)."""
+        floors = [NOISE_FACTOR * b.round_off_N for b in self.beams.values()]
+        return max([ABSOLUTE_TOLERANCE, *floors])
+
+    def rigid_beam_rows(self) -> np.ndarray:
+        """Linear equations over the ODE2 coordinates holding every beam part rigid (the
+        assembly checks count a beam as a rigid part, as a bushing counts as its ideal
+        joint)."""
+        n2 = self.mbs.systemData.ODE2Size()
+        rows = [b.rigid_rows(n2) for b in self.beams.values()]
+        return np.vstack(rows) if rows else np.zeros((0, n2))
 
     def coordinates(self) -> np.ndarray:
         """The bodies' coordinates in the current (last solved) state."""
@@ -458,7 +483,7 @@ class SuspensionModel:
         return {
             "solver": "exudyn SolveStatic (Newton, load steps along the rig path)",
             "newton_relative_tolerance": sv.newton_tolerance,
-            "newton_absolute_tolerance": ABSOLUTE_TOLERANCE,
+            "newton_absolute_tolerance": self.absolute_tolerance,
             "max_newton_iterations": sv.max_newton_iterations,
             "modified_newton": sv.modified_newton,
             "adaptive_step": sv.adaptive_step,
@@ -467,4 +492,6 @@ class SuspensionModel:
             "user_functions": self.options.user_functions,
             "kinematic": self.suspension.kinematic,
             "stiffness_scale": self.options.stiffness_scale,
+            **({"beam_elements": {p: b.beam.elements_per_segment * (len(b.beam.nodes_mm) - 1)
+                                  for p, b in self.beams.items()}} if self.beams else {}),
         }

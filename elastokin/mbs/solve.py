@@ -16,8 +16,9 @@ from exudyn.advancedUtilities import CreateSymbolicUserFunction
 
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs import friction
+from elastokin.mbs.assembly import free_parts, free_parts_message
 from elastokin.mbs.exudyn_api import exu, exudyn_call
-from elastokin.mbs.model import ABSOLUTE_TOLERANCE, DEG, SuspensionModel
+from elastokin.mbs.model import DEG, SuspensionModel
 from elastokin.mbs.user_functions import make_path_function
 from elastokin.physics.states import ModelState, PartPoses
 
@@ -37,7 +38,7 @@ def simulation_settings(model: SuspensionModel, steps: int):
     st.stepInformation = 0
     st.newton.useModifiedNewton = sv.modified_newton
     st.newton.relativeTolerance = sv.newton_tolerance
-    st.newton.absoluteTolerance = ABSOLUTE_TOLERANCE
+    st.newton.absoluteTolerance = model.absolute_tolerance
     st.newton.maxIterations = sv.max_newton_iterations
     ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
     return ss
@@ -176,6 +177,9 @@ def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
         finally:
             mbs.systemData.SetODE2Coordinates(q0, initial)
     if not ok or len(rows) < n:
+        free = free_parts(model, simulation_settings(model, 1))  # a singular Jacobian?
+        if free:
+            raise ModelError(free_parts_message(model, free))
         sv = model.suspension.solver
         raise SolverError(
             f"{label}: static solve did not converge after step {len(rows)} of {n} "

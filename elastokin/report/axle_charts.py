@@ -109,6 +109,13 @@ AXLE_CHART_LIST = (
                   (LegendFigure("roll_centre_height_mm", "kinematic at static", "mm", ".1f"),
                    LegendFigure("roll_centre_height_force_based_mm", "force-based", "mm",
                                 ".1f"))),
+    # an axle joined by a flexible beam (a twist beam): the kinematic roll centre in roll
+    AxleChartSpec("roll_centre_height_vs_opposite_travel", "opposite_travel",
+                  "wheel_travel_mm", "roll_centre_height_mm",
+                  "Roll centre height (kinematic, in roll) vs opposite wheel travel", False,
+                  (LegendFigure("roll_centre_height_mm", "kinematic at static", "mm", ".1f"),
+                   LegendFigure("roll_centre_height_force_based_mm", "force-based", "mm",
+                                ".1f"))),
 )
 AXLE_CHARTS = {c.name: c for c in AXLE_CHART_LIST}
 
@@ -363,6 +370,12 @@ def axle_chart_caption(spec: AxleChartSpec, with_test: bool, with_ideal: bool) -
         text += ("; the curve is the kinematic roll centre (instant centres of both wheels in "
                  "the front view), the force-based one (12x12 compliance) is a figure of the "
                  "static state only")
+    if spec.name == "roll_centre_height_vs_opposite_travel":
+        text += ("; an axle joined by a flexible beam (a twist beam) moves in roll otherwise "
+                 "than in bump, as the beam's elasticity sets it, so its kinematic roll centre "
+                 "comes from both wheels' motion in opposite wheel travel (x: the config side's "
+                 "wheel travel; the other wheel's is opposite); the force-based one (12x12 "
+                 "compliance) is a figure of the static state only")
     if spec.ideal_ackermann:
         text += (f"; dash-dot: {IDEAL_LABEL}, the steer angle that would put "
                  "both spindle lines through one point of the rear axle's line (wheelbase "

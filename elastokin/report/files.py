@@ -90,13 +90,14 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
             entry["reference"] = r.model_dump(exclude_none=True)
         bushings[name] = entry
     s = run.suspension
+    models = run.summaries()  # before the warnings: a figure not determined adds one
     return {
         **config_provenance(s),
         "config_name": s.name,
         "input_files": input_files(run),
         "test_data_synthetic": s.kc_test is not None and s.kc_test.synthetic is not None,
         "solver": {label: m.solver for label, m in run.models.items()},
-        "models": {label: m.summary() for label, m in run.models.items()},
+        "models": models,
         "errors": run.errors,
         "static": {
             "wheel_load_N": st.wheel_load_N,

@@ -78,12 +78,14 @@ def part_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
             families.setdefault(p.name.removesuffix(scene_suffix(scene, p.name)), []).append(p)
     out = []
     for base, parts in families.items():
-        segs, text = [], []
+        segs, text, carriers = [], [], []
         for p in parts:
             for i, j in p.edges or [(k, k) for k in range(len(p.points_mm))]:
-                segs.append((p.name, p.points_mm[[i, j]]))
+                segs.append(p.points_mm[[i, j]])
                 text += [f"{p.name}: {p.labels[i]}", f"{p.name}: {p.labels[j]}", ""]
-        xyz, carriers = _rigid(scene, segs)
+                carriers += [_carrier(scene, p.carriers[i]), _carrier(scene, p.carriers[j]),
+                             GAP]
+        xyz = dict(zip("xyz", _lines(segs)))
         colour = parts[0].colour
         out.append(t.add({"type": "scatter3d", "mode": "lines+markers", **xyz, "name": base,
                           "legendgroup": f"{group}:{base}", "text": text,
@@ -103,7 +105,7 @@ def part_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
                           "legendgroup": f"{group}:{base}", "showlegend": False,
                           "hovertemplate": f"{base}<extra></extra>", "flatshading": True},
                          {"kind": "rigid", "model": model, "carriers": [
-                             _carrier(scene, p.name) for p in hulls for _ in p.points_mm]}))
+                             _carrier(scene, c) for p in hulls for c in p.carriers]}))
     return out
 
 
@@ -280,11 +282,14 @@ def kinematic_traces(t: Traces, scene: Scene, model: str, group: str) -> list[in
 
 def ghost_trace(t: Traces, scene: Scene, model: str, colour: str) -> int:
     """A model's outline (every part's sticks and the wheels' sidewalls), for overlays."""
-    segs = [(p.name, p.points_mm[[i, j]]) for p in scene.parts for i, j in p.edges]
+    segs = [p.points_mm[[i, j]] for p in scene.parts for i, j in p.edges]
+    carriers = [c for p in scene.parts for i, j in p.edges
+                for c in (_carrier(scene, p.carriers[i]), _carrier(scene, p.carriers[j]), GAP)]
     for w in scene.wheels:
-        segs.append((w.part, _circle(w.centre_mm + 0.5 * w.width_mm * w.spin_axis,
-                                     w.spin_axis, w.radius_mm, 36)))
-    xyz, carriers = _rigid(scene, segs)
+        segs.append(_circle(w.centre_mm + 0.5 * w.width_mm * w.spin_axis, w.spin_axis,
+                            w.radius_mm, 36))
+        carriers += [_carrier(scene, w.part)] * 37 + [GAP]
+    xyz = dict(zip("xyz", _lines(segs)))
     return t.add({"type": "scatter3d", "mode": "lines", **xyz, "name": f"{model} (outline)",
                   "legendgroup": f"ghost:{model}", "visible": "legendonly",
                   "hoverinfo": "name", "line": {"color": colour, "width": 3, "dash": "dash"}},

@@ -34,7 +34,8 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
                  ) -> dict[str, np.ndarray]:
     """The axle's columns of one load case (the same in every wheel's sweep):
     ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
-    ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel the kinematic
+    ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel (in opposite wheel travel on
+    an axle joined by a flexible beam: ``Suspension.shared_beams``) the kinematic
     ``roll_centre_height_mm`` (above the contact points' mean height) and
     ``roll_centre_lateral_mm`` (ISO y, + left)."""
     s = suspension
@@ -55,16 +56,19 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
     if "arb:twist_deg" in first[0].scalars:
         cols["arb_twist_deg"] = np.array([st.scalars["arb:twist_deg"] for st in first])
         cols["arb_torque_Nmm"] = np.array([st.scalars["arb:torque_Nmm"] for st in first])
-    if drive.load_case == "parallel_travel":
+    # the kinematic roll centre from the wheels' motion in bump, or on an axle joined by a
+    # flexible beam (a twist beam, whose elasticity sets the motion in roll) in roll
+    in_roll = bool(s.shared_beams)
+    if drive.load_case == ("opposite_travel" if in_roll else "parallel_travel"):
         cols.update(roll_centre_columns(patch, np.asarray(drive.branch)))
     return cols
 
 
 def roll_centre_columns(patch: dict[str, np.ndarray], branch: np.ndarray
                         ) -> dict[str, np.ndarray]:
-    """The kinematic roll centre at every step of a parallel-travel sweep (ISO frame): the
-    contact points' velocities are their central differences along each branch (one-sided at
-    a branch's ends); a branch of one step has none (NaN)."""
+    """The kinematic roll centre at every step of a parallel (or opposite) travel sweep (ISO
+    frame): the contact points' velocities are their central differences along each branch
+    (one-sided at a branch's ends); a branch of one step has none (NaN)."""
     height = np.full(branch.size, np.nan)
     lateral = np.full(branch.size, np.nan)
     for name in dict.fromkeys(branch.tolist()):

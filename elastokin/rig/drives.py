@@ -20,6 +20,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,6 +41,9 @@ from elastokin.rig.channels import FORCE_CASES, LOAD_CASES
 from elastokin.rig.pad import WheelInputs
 from elastokin.rig.paths import leg, sweep_path, travel_path, vertical_force_path
 
+#: the load cases a kinematic model runs (:func:`drives`)
+KINEMATIC_CASES = ("parallel_travel", "vertical_force", "opposite_travel",
+                   "single_wheel_travel", "roll_vertical_force", "steering")
 #: the axle's load cases, in the order they run (after the corner cases)
 AXLE_CASES = ("opposite_travel", "single_wheel_travel", "roll_vertical_force", "steering",
               "static_load", "lateral_force_anti_phase")
@@ -147,17 +151,17 @@ def steering_drive(suspension: Suspension, spec: SteeringSweepSpec) -> Drive:
     s = _axle(suspension, "steering")
     st = s.axle.steering
     if st is None:
-        raise ConfigError(f"{s.source}: key 'rig.steering': the axle has no steering "
+        raise ConfigError(f"{s.rig_key('steering')}: the axle has no steering "
                           "(axle.steering); leave the load case out (steering: null)")
     limit = steering_wheel_room_deg(st)
     held = f", the rack held at {st.travel_mm:g} mm" if st.travel_mm else ""
     if not limit > 0:
-        raise ConfigError(f"{s.source}: key 'rig.steering': the rack is held at its travel "
+        raise ConfigError(f"{s.rig_key('steering')}: the rack is held at its travel "
                           f"limit ({st.travel_mm:g} mm, axle.steering.limit_mm "
                           f"{st.limit_mm:g} mm): no room to steer")
     amplitude = spec.amplitude_deg if spec.amplitude_deg is not None else limit
     if amplitude > limit * (1.0 + 1e-9):
-        raise ConfigError(f"{s.source}: key 'rig.steering.amplitude_deg': {amplitude:g} deg "
+        raise ConfigError(f"{s.rig_key('steering.amplitude_deg')}: {amplitude:g} deg "
                           f"takes the rack beyond its travel limit (axle.steering.limit_mm "
                           f"{st.limit_mm:g} mm{held}: {limit:.4g} deg of steering wheel)")
     swa, branch = sweep_path(amplitude, spec.step_deg)
@@ -226,10 +230,47 @@ def force_drive(suspension: Suspension, case: str,
     return Drive(case, lc.input, values, branch, wheels, side_inputs=own)
 
 
+def why_not_run(suspension: Suspension, case: str, fitted: bool = False) -> str | None:
+    """Why no model of ``suspension`` runs the load case ``case``: an axle's case on a
+    corner, steering without a steering rack, a force case when every model is kinematic, or
+    a case the rig leaves out (unless ``fitted``: the stiffness fit runs the test's corner
+    cases whatever the rig); None when some model runs it."""
+    s = suspension
+    lc = LOAD_CASES[case]
+    if not lc.corner and s.axle is None:
+        return "an axle load case, and the config is one corner (no 'axle' section)"
+    if case == "steering" and s.axle.steering is None:
+        return "the axle has no steering (axle.steering)"
+    if s.kinematic and case not in KINEMATIC_CASES:
+        return "every model is kinematic (kinematic: true): they run the travel, vertical " \
+               "force, roll and steering cases only"
+    if getattr(s.rig, case) is None and not (fitted and lc.corner):
+        return f"the rig leaves the load case out ({s.rig_key(case)} is null)"
+    return None
+
+
+def check_rig(suspension: Suspension, rig: RigSpec | None = None) -> None:
+    """Warn (:class:`RigWarning`) of a load case the rig (default the suspension's) gives
+    explicitly that no model of ``suspension`` can run (:func:`why_not_run`): the K&C job
+    leaves it out (:func:`drives` skips it), and says so once."""
+    rig = rig or suspension.rig
+    for case in sorted(rig.model_fields_set):
+        if getattr(rig, case) is None:
+            continue
+        why = why_not_run(suspension, case)
+        if why is not None:
+            warnings.warn(RigWarning(f"{suspension.rig_key(case)}: given, but {why}: the "
+                                     "load case is left out"), stacklevel=2)
+
+
+class RigWarning(UserWarning):
+    """A load case of the rig that is given but cannot run."""
+
+
 def _axle(suspension: Suspension, case: str) -> Suspension:
     if suspension.axle is None:
-        raise ConfigError(f"{suspension.source}: key 'rig.{case}': an axle load case; the "
-                          "config is one corner (add an 'axle' section)")
+        raise ConfigError(f"{suspension.rig_key(case)}: an axle load case; the config is one "
+                          "corner (add an 'axle' section)")
     return suspension
 
 

@@ -31,7 +31,9 @@ SAME_POINT_MM = 1e-6
 class ScenePart:
     """A moving part: its points (design position, mm) with what each is (``labels``), the
     sticks between them (``edges``, index pairs) and its convex hull (``triangles``, index
-    triples; none for fewer than 3 points or points on a line)."""
+    triples; none for fewer than 3 points or points on a line). ``carriers``: the part whose
+    pose moves each point: the part itself, or for a flexible (beam) part, which has no one
+    pose, the rigid part attached at that point (it is drawn straight between them)."""
 
     name: str
     colour: str
@@ -40,6 +42,7 @@ class ScenePart:
     points_mm: np.ndarray
     edges: tuple[tuple[int, int], ...]
     triangles: tuple[tuple[int, int, int], ...]
+    carriers: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -248,6 +251,19 @@ def _colours(names: list[str], suffix: str | None) -> dict[str, str]:
     return {n: colour.get(n) or colour[n.removesuffix(suffix)] for n in names}
 
 
+def _carrier(d: SuspensionDraft, part: str, x: np.ndarray, flexible: dict) -> str:
+    """What moves point ``x`` of ``part``: the part, or for a flexible part the rigid part a
+    joint or bushing attaches at ``x`` (the part itself when none does)."""
+    if part not in flexible:
+        return part
+    for c in (*d.joints, *d.bushings):
+        if part in c.parts and np.linalg.norm(c.position_mm - x) < SAME_POINT_MM:
+            other = c.parts[1] if c.parts[0] == part else c.parts[0]
+            if other not in flexible:
+                return other
+    return part
+
+
 def build_scene(d: SuspensionDraft) -> Scene:
     """The scene of a config draft (module docstring)."""
     pts = _Points(d.hardpoints)
@@ -260,12 +276,19 @@ def build_scene(d: SuspensionDraft) -> Scene:
         elif isinstance(com, str) and com in d.hardpoints:
             pts.add(name, d.hardpoints[com], "centre of mass")
     colours = _colours(list(d.parts), d.axle.suffix if d.axle is not None else None)
+    flexible = {b.part: b for b in d.beams if not b.rigid}
+    for b in flexible.values():  # its nodes are hardpoints the beam uses
+        pts.used.update(b.node_names)
     parts = []
     for name in d.parts:
         found = pts.by_part.get(name, [])
         x = np.array([p for _, p in found]).reshape(-1, 3)
-        parts.append(ScenePart(name, colours[name], getattr(d.parts[name], "description", ""),
-                               tuple(lab for lab, _ in found), x, _sticks(x), _hull(x)))
+        carriers = tuple(_carrier(d, name, p, flexible) for p in x)
+        about = getattr(d.parts[name], "description", "") + (
+            " (flexible: drawn straight between the parts it is attached to)"
+            if name in flexible else "")
+        parts.append(ScenePart(name, colours[name], about, tuple(lab for lab, _ in found), x,
+                               _sticks(x), () if name in flexible else _hull(x), carriers))
     ground = pts.by_part.get(d.ground, [])
     loose = [k for k in d.hardpoints if k not in pts.used]
     frame = f"config frame: x {d.frame.x}, y {d.frame.y}, z {d.frame.z}"

@@ -54,6 +54,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     if not s.springs:
         reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
                             "computed with the springs locked)")
+    reason = reason or flexible_reason(s, "the steering axis is")
     elements = skeleton_elements(s, True, released_links, springs_released=False)
     elements, eliminated = eliminate_links(elements, s.ground, wheel)
     return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
@@ -65,11 +66,22 @@ def travel_skeleton(suspension: Suspension) -> SteeringSkeleton:
     released (the input), the steering held (rack and tie rods); its screw axis gives the
     front-view instant centre (:mod:`elastokin.rig.scene_motion`)."""
     s = suspension
-    reason = None if s.springs else "no spring: the wheel's travel input is not defined"
+    reason = (None if s.springs else "no spring: the wheel's travel input is not defined") \
+        or flexible_reason(s, "the instant centres are")
     elements = skeleton_elements(s, False, set(), springs_released=True)
     elements, eliminated = eliminate_links(elements, s.ground, s.wheel.part)
     return SteeringSkeleton(s.ground, s.wheel.part, tuple(elements), "spring lengths", reason,
                             tuple(eliminated))
+
+
+def flexible_reason(s: Suspension, what: str) -> str | None:
+    """Why a skeleton of rigid parts does not describe ``s`` (its flexible beam parts), for
+    ``what`` it would give."""
+    flexible = [b.part for b in s.beams if not b.rigid]
+    if not flexible:
+        return None
+    return f"the flexible beam part(s) {', '.join(flexible)}: {what} computed for rigid " \
+        "parts only"
 
 
 def _rack_joints(s: Suspension) -> list:
@@ -121,10 +133,15 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
     s = suspension
     centre = np.array([st.wheel_centre_mm for st in states])
     spin = np.array([st.spin_axis for st in states])
-    axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
+    skeleton = steering_skeleton(s)
+    axes = steering_axes_from_poses(skeleton, [st.poses for st in states], centre)
     d, p = axes.direction.copy(), axes.point
     d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
-    if axes.reason is not None or np.isnan(d).any():
+    if skeleton.reason is not None:  # the suspension has none (the same for every run)
+        warnings.warn(SteeringAxisWarning(
+            f"{s.source}: no steering axis (NaN caster, kingpin inclination, scrub radius, "
+            f"caster trail): {skeleton.reason}"), stacklevel=2)
+    elif axes.reason is not None or np.isnan(d).any():
         bad = int(np.isnan(d).any(axis=1).sum())
         warnings.warn(SteeringAxisWarning(
             f"{s.source}: steering axis undefined at {bad} of {len(states)} steps (NaN "

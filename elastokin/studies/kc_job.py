@@ -21,6 +21,7 @@ The result files are written by :mod:`elastokin.report`.
 from __future__ import annotations
 
 import pickle
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -40,14 +41,18 @@ from elastokin.config.variants import (
     side_couplings,
 )
 from elastokin.errors import ConfigError
+from elastokin.formats.cmm_parts import measurement_paths
 from elastokin.formats.kc_test_sweeps import read_test_sweeps, side_sweeps
 from elastokin.identification.geometric import Identification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
+from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
+from elastokin.rig.channels import LOAD_CASE_LIST, LOAD_CASES
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
+from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import (
     StaticResult,
     run_load_cases_sides,
@@ -118,6 +123,19 @@ class KCRun:
     warnings: list[str] = field(default_factory=list)
     reused: list[str] = field(default_factory=list)  # results taken from the cache
 
+    def summaries(self) -> dict[str, dict]:
+        """Every model's summary figures (:meth:`ModelResult.summary`); a figure not
+        determined (a slope from too few points, :func:`elastokin.physics.wheel.slope`) is
+        None and its warning, issued again, goes into the run's warnings (summary.json)."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out = {label: m.summary() for label, m in self.models.items()}
+        self.add_warnings([" ".join(str(w.message).split()) for w in caught
+                           if issubclass(w.category, UndeterminedSlopeWarning)])
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return out
+
     def add_warnings(self, messages: list[str]) -> None:
         """Add warnings issued while the run was made (e.g. by ``elastokin kc``: the Python
         warnings it caught), each distinct message once; they go into summary.json."""
@@ -132,12 +150,7 @@ def test_data(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
 
 def measurement_files(suspension: Suspension) -> list[Path]:
     """The CMM files the config's ``measurements`` section names (for the cache key)."""
-    m = suspension.measurements
-    if m is None:
-        return []
-    folder = Path(suspension.source).parent / m.folder
-    names = [spec.file for spec in m.parts.values()] + [m.assembly.file]
-    return [folder / n for n in names + ([m.truth] if m.truth else [])]
+    return list(measurement_paths(suspension).values())
 
 
 def geometry(suspension: Suspension, progress: Progress = _quiet,
@@ -268,6 +281,7 @@ def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
                           "and kc_test.stiffness_identification.enabled: true")
     check_fit_on_corner(s)
     test = side_sweeps(test, s.side, s)  # the corner's wheel: the test's other wheel is not fitted
+    check_fit_test(s, test)
     return identify_stiffness(corner(start.suspension), corner_preloads(start), test,
                               s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
@@ -283,6 +297,22 @@ def check_fit_on_corner(suspension: Suspension) -> None:
             f"runs on one corner, and this axle's sides are coupled by {', '.join(couplings)}; "
             "fit the corner (the config without its 'axle' section) and give the axle its "
             "fitted laws, or set stiffness_identification.enabled: false")
+
+
+def check_fit_test(suspension: Suspension, test: list[Sweep]) -> None:
+    """The stiffness fit runs the corner's load cases of the test data: the test sweeps of
+    the config's wheel hold at least one (else one error naming the test folder)."""
+    if any(LOAD_CASES[sw.load_case].corner for sw in test):
+        return
+    s = suspension
+    folder = Path(s.source).parent / s.kc_test.folder
+    held = ", ".join(dict.fromkeys(sw.load_case for sw in test)) or "none"
+    corner_cases = ", ".join(c.name for c in LOAD_CASE_LIST if c.corner)
+    raise ConfigError(
+        f"{s.source}: key 'kc_test.stiffness_identification': the stiffness fit runs the "
+        f"corner load cases of the test data ({corner_cases}), and the K&C test files in "
+        f"{folder} hold none for the {s.side} wheel (they hold: {held}); add such a file or "
+        "set stiffness_identification.enabled: false")
 
 
 def corner_preloads(variant: ModelVariant) -> DesignState:
@@ -338,7 +368,11 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
+    check_rig(suspension)  # a load case given that cannot run: a warning
     check_fit_on_corner(suspension)
+    if test and fits_stiffness(suspension) and (models is None
+                                                or "identified_stiffness" in models):
+        check_fit_test(suspension, side_sweeps(test, suspension.side, suspension))
     ident = geometry(suspension, progress, cache)
     fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
                           *map(Path, files))

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.config.axle import MIRROR, mirrored_laws, other_side
+from elastokin.config.confined import data_file, data_folder
 from elastokin.config.schema import RealSuspensionSpec, SyntheticSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import (
@@ -63,7 +64,7 @@ from elastokin.formats.kc_test_channels import column_side, input_columns
 from elastokin.formats.kc_test_sweeps import axle_test_channels, sweep_to_test_channels
 from elastokin.mbs.design import build_model
 from elastokin.physics.laws import DirectionLaw
-from elastokin.rig.channels import TEST_CHANNELS
+from elastokin.rig.channels import LOAD_CASES, TEST_CHANNELS
 from elastokin.rig.load_cases import drives, run_drive_sides, static_equilibrium
 from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
@@ -281,7 +282,10 @@ def write_kc_test_files(suspension: Suspension, folder: Path | None = None,
 
     s = suspension
     spec = _spec(s)
-    folder = Path(folder) if folder is not None else Path(s.source).parent / s.kc_test.folder
+    for case in LOAD_CASES:  # written inside the config's folders (or ``folder``) only
+        key = f"kc_test.files.{case}" if case in s.kc_test.files else "kc_test.folder"
+        data_file(s, "kc_test", s.kc_test.files.get(case, f"{case}.csv"), key, folder)
+    folder = Path(folder) if folder is not None else data_folder(s, "kc_test")
     folder.mkdir(parents=True, exist_ok=True)
     seed = _seed(s, seed)
     sweeps = sweeps if sweeps is not None else run_real_suspension(s, seed, progress)

@@ -39,6 +39,7 @@ import numpy as np
 import yaml
 from scipy.spatial.transform import Rotation
 
+from elastokin.config.confined import data_file
 from elastokin.config.measurements import check_measurements, hardpoint_name
 from elastokin.config.schema import (
     BushingSpec,
@@ -364,6 +365,19 @@ def _write_truth(path: Path, s: Suspension, seed: int, syn: SyntheticSpec, sigma
     return path
 
 
+def _check_written_paths(s: Suspension, m: MeasurementsSpec, folder: Path | None) -> None:
+    """Every file to be written lies inside the config's folders (or ``folder``, typed on the
+    command line), links followed (:func:`elastokin.config.confined.data_file`): a config
+    from someone else writes nothing elsewhere."""
+    names = {f"measurements.parts.{p}.file": spec.file for p, spec in m.parts.items()}
+    names["measurements.assembly.file"] = m.assembly.file
+    for key, name in names.items():
+        for ext in (".igs", ".csv"):
+            data_file(s, "measurements", str(Path(name).with_suffix(ext)), key, folder)
+    if m.truth is not None:
+        data_file(s, "measurements", m.truth, "measurements.truth", folder)
+
+
 def synthesize(suspension: Suspension, seed: int | None = None,
                folder: Path | None = None) -> list[Path]:
     """Make the as-built suspension and write its virtual CMM files; returns the paths (on an
@@ -376,6 +390,7 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     syn = m.synthetic or SyntheticSpec()
     seed = syn.seed if seed is None else seed
     rng = np.random.default_rng(seed)
+    _check_written_paths(s, m, folder)
     folder = Path(folder) if folder is not None else Path(s.source).parent / m.folder
     sigma = syn.noise_mm / CHI3_95
     spec = SuspensionFile.model_validate(s.raw)
