@@ -152,7 +152,7 @@ def _camera_buttons(scene: Scene) -> list[dict]:
             for name, e, u in views]
 
 
-def build_view(models: list[ModelView], overlay=None, prefix: str = "ekv") -> tuple[dict, dict]:
+def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
     """(the plotly figure as a dict, the page's data for ``view3d.js``)."""
     t = Traces()
     payload: dict = {"order": [m.label for m in models], "models": {}, "recipes": [],
@@ -221,7 +221,7 @@ def view_fragment(models: list[ModelView], overlay=None, lazy: bool = False,
     plot comes near the window (a report opens without waiting for them)."""
     from plotly.offline import get_plotlyjs
 
-    figure, payload = build_view(models, overlay, prefix)  # tests validate it with plotly
+    figure, payload = build_view(models, overlay)  # tests validate it with plotly
     figure["config"] = {"displaylogo": False, "responsive": True,
                         "toImageButtonOptions": {"format": "png", "scale": 2}}
     script = resources.files("elastokin.report").joinpath("view3d.js").read_text("utf-8")
