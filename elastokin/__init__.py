@@ -14,6 +14,7 @@ The public Python API (the CLI is a thin layer over it)::
     model = ek.build_model(ek.kinematic(s))                       # one model variant
     sweeps = ek.run_load_cases(model, "kinematic")                # every load case of the rig
     ident = ek.identify_geometry(s)                               # the paper's method
+    motion = ek.identify_motion(s)             # joints from the parts' motion (a 'motion' plan)
 
 A resolved :class:`Suspension` is read-only: ``s.hardpoints["J3"] = ...`` raises and names
 ``with_hardpoints``; ``copy.deepcopy(s.raw)`` is the config mapping to edit (numpy numbers
@@ -61,6 +62,7 @@ _API = {
     "CHANNELS": "elastokin.rig.channels",
     # identification and studies
     "identify_geometry": "elastokin.studies.identification",
+    "identify_motion": "elastokin.identification.motion.identify",
     "identify_stiffness": "elastokin.identification.stiffness",
     "run_kc": "elastokin.studies.kc_job",
     "run_kc_from_identification": "elastokin.studies.kc_job",

@@ -116,6 +116,11 @@ def test_identification_needs_rigid_parts():
     with pytest.raises(ConfigError, match="key 'measurements'.*rigid parts"):
         load(data)
     data = config()
+    data["motion"] = {"ground": {"file": "g.csv"}, "marks": {}, "positions": {
+        f"p{k}": {"file": f"p{k}.csv"} for k in range(3)}}
+    with pytest.raises(ConfigError, match="key 'motion'.*rigid parts"):
+        load(data)
+    data = config()
     data["kc_test"] = {"folder": "."}
     with pytest.raises(ConfigError, match="stiffness_identification.enabled"):
         load(data)

@@ -59,6 +59,7 @@ def tip_response(b: Beam, force=(0.0, 0.0, 0.0), torque=(0.0, 0.0, 0.0)):
     mbs.Assemble()
     ss = exu.SimulationSettings()
     ss.staticSolver.verboseMode = 0
+    ss.solution.file.write = False  # no solution/ folder in the working directory
     ss.staticSolver.newton.relativeTolerance = 1e-12
     ss.staticSolver.newton.absoluteTolerance = 100 * body.round_off_N
     ss.linearSolver.solverType = exu.LinearSolverType.EigenDense

@@ -67,11 +67,13 @@ class Output:
     (:mod:`elastokin.cli.staging`). :meth:`check` refuses an unusable ``out`` before any
     computation."""
 
-    def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
+    def __init__(self, out: Path, marker: str | tuple[str, ...] = "summary.json",
+                 option: str = "--out"):
         self.out = out  # as given: named in messages
         # a link the user gave: the results replace the folder it points to, not the link
         self.target = Path(os.path.realpath(out)) if out.is_symlink() else out
-        self.marker = marker  # a file that says the folder holds elastokin results
+        # a file (any of them) that says the folder holds elastokin results
+        self.markers = (marker,) if isinstance(marker, str) else tuple(marker)
         self.option = option
         self.owner: int | None = None  # the staging folder's locked owner file
 
@@ -84,9 +86,11 @@ class Output:
                                  f"{out / 'results'}")
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"{opt} {out}: exists and is not a folder")
-        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
+        if out.is_dir() and any(out.iterdir()) and not any(
+                (out / m).exists() for m in self.markers):
             raise ElastokinError(f"{opt} {out}: folder is not empty and holds no elastokin "
-                                 f"results ({self.marker}); choose another folder")
+                                 f"results ({' or '.join(self.markers)}); choose another "
+                                 "folder")
         check_writable(out, opt)
 
     def __enter__(self) -> Path:

@@ -59,13 +59,16 @@ def segment_frames(nodes: np.ndarray, z_axes, names) -> np.ndarray:
 
 
 def check_beam_uses(resolver, beams: list[Beam]) -> None:
-    """What a suspension with beams cannot do (yet): CMM identification and the stiffness fit
-    (they work on rigid parts)."""
+    """What a suspension with beams cannot do (yet): CMM identification, joints from motion
+    and the stiffness fit (they work on rigid parts)."""
     spec = resolver.spec
     parts = ", ".join(f"'{b.part}'" for b in beams)
     if spec.measurements is not None:
         raise resolver.fail("measurements", f"geometric identification from CMM data needs "
                             f"rigid parts; {parts} is a flexible beam: remove 'measurements'")
+    if spec.motion is not None:
+        raise resolver.fail("motion", f"joints from motion need rigid parts (a part's pose "
+                            f"from its marks); {parts} is a flexible beam: remove 'motion'")
     if spec.kc_test is not None and spec.kc_test.stiffness_identification.enabled:
         raise resolver.fail("kc_test.stiffness_identification.enabled", "the bushing "
                             f"stiffness fit is not available with flexible beam parts ({parts}): "

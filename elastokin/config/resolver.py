@@ -226,7 +226,7 @@ class Resolver:
             wheel=c.wheel, joints=c.joints, links=c.links, bushings=c.bushings,
             springs=c.springs, design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
-            kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
+            motion=s.motion, kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
             rig_sha256=rig_sha256, stops=c.stops, beams=beams,
         )
         return res

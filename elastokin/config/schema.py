@@ -24,6 +24,7 @@ from elastokin.config.schema_base import (
     Vector3,
 )
 from elastokin.config.schema_beam import BeamSpec
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.schema_rig import RigSpec
 
 
@@ -400,6 +401,7 @@ class SuspensionFile(StrictModel):
     rig: RigSpec = RigSpec()
     reference: ReferenceSpec = ReferenceSpec()
     measurements: MeasurementsSpec | None = None
+    motion: MotionSpec | None = None  # joints from motion (docs/measurements.md)
     kc_test: KCTestSpec | None = None
     axle: AxleSpec | None = None
 

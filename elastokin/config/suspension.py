@@ -28,6 +28,7 @@ from elastokin.config.schema import (
     SolverSpec,
 )
 from elastokin.config.schema_axle import VehicleSpec
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.schema_rig import RigSpec
 from elastokin.errors import ConfigError
 from elastokin.physics.laws import DirectionLaw
@@ -311,6 +312,7 @@ class Suspension:
     reference: ReferenceSpec = field(default_factory=ReferenceSpec)
     raw: dict = field(repr=False, default_factory=dict)
     measurements: MeasurementsSpec | None = None
+    motion: MotionSpec | None = None
     kc_test: KCTestSpec | None = None
     rig_source: str = ""  # a rig file given apart from the config ("": the config's rig)
     label: str = "initial"  # the model's label in results (the config's ``label``)

@@ -14,6 +14,7 @@ STYLE = {
     "test": {"color": "black", "linestyle": "-", "linewidth": 2.0},
     "initial": {"color": "tab:blue", "linestyle": "-"},
     "identified": {"color": "tab:red", "linestyle": "-"},
+    "identified_motion": {"color": "tab:purple", "linestyle": "-."},
     "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
     "identified_kinematic": {"color": "tab:red", "linestyle": ":"},
     "identified_stiffness": {"color": "tab:green", "linestyle": "--"},

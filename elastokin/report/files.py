@@ -19,7 +19,7 @@ import numpy as np
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
-from elastokin.report.text import identification_table
+from elastokin.report.text import identification_table, motion_table
 from elastokin.rig.axle_channels import design_track_mm
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
@@ -118,6 +118,8 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         "reused_from_cache": run.reused,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
+        **({"motion_identification": motion_summary(run.motion)}
+           if run.motion is not None else {}),
         **({"axle": axle_data(s)} if s.axle is not None else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
@@ -159,6 +161,11 @@ def input_files(run: KCRun) -> list[dict]:
     if run.identification is not None:
         for part, f in run.identification.sources.items():
             role = "CMM, assembled marks" if part == "assembly" else f"CMM, part {part}"
+            out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
+    if run.motion is not None:
+        for position, f in run.motion.sources.items():
+            role = ("CMM, ground marks" if position == "ground"
+                    else f"CMM, motion position {position}")
             out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
     return out
 
@@ -204,6 +211,52 @@ def write_identification(folder: Path, ident, prov: dict) -> dict:
     doc = identification_dict(ident, prov)
     (folder / "identification.json").write_text(json.dumps(doc, indent=2) + "\n")
     (folder / "identification.txt").write_text(identification_table(ident))
+    return doc
+
+
+def motion_dict(motion, prov: dict, ident: dict | None = None) -> dict:
+    """``motion_identification.json``: the joints located from the motion (with provenance)
+    and, when the run also identified the geometry from the parts measured alone
+    (``ident``, ``identification.json``'s content), that method's error against the truth
+    beside each joint's. Vehicle (config) frame at the design position, mm, deg."""
+    body = motion.to_json()
+    for name, j in body["joints"].items():
+        other = (ident or {}).get("joints", {}).get(name)
+        j["disassembly_error_vs_truth_mm"] = None if other is None else \
+            other.get("error_vs_truth_mm")
+    return {**prov, **body, "conventions": {
+        "located_mm": "joint centre from the parts' motion at the design position (an axis "
+                      "joint: the axis point nearest the config's hardpoint; null: only the "
+                      "axis is located, e.g. a bushing)",
+        "uncertainty_mm": "1-sigma 3-D RMS from the CMM noise (noise_sigma_mm, first-order "
+                          "propagation); worst_std_mm along the worst direction",
+        "residual_rms_mm": "RMS distance between the two bodies' points over the positions",
+        "error_vs_truth_mm": "against the synthetic truth; an axis joint's across the true "
+                             "axis",
+        "methods": "SCoRE: Ehrig et al. 2006, J. Biomech. 39:2798; SARA: Ehrig et al. 2007, "
+                   "J. Biomech. 40:2150"}}
+
+
+def motion_summary(motion) -> dict:
+    """The joints from motion in ``summary.json`` (details in motion_identification.json)."""
+    return {"file": "motion_identification.json",
+            "noise_sigma_mm": motion.noise_sigma_mm,
+            "joints": {n: {"located_mm": None if not j.plan.locates_point
+                           else [float(x) for x in j.point_mm],
+                           "uncertainty_mm": j.uncertainty_mm if j.plan.locates_point
+                           else None,
+                           "axis_uncertainty_deg": j.axis_uncertainty_deg,
+                           "error_vs_truth_mm": j.error_vs_truth_mm,
+                           "axis_error_deg": j.axis_error_deg}
+                       for n, j in motion.joints.items()}}
+
+
+def write_motion_identification(folder: Path, motion, prov: dict, ident: dict | None = None
+                                ) -> dict:
+    """motion_identification.json and .txt; returns the JSON's content."""
+    doc = motion_dict(motion, prov, ident)
+    (folder / "motion_identification.json").write_text(json.dumps(doc, indent=2) + "\n")
+    (folder / "motion_identification.txt").write_text(motion_table(doc))
     return doc
 
 
@@ -256,6 +309,10 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
         files += ["identification.json", "identification.txt"]
+    motion = None
+    if run.motion is not None:
+        motion = write_motion_identification(folder, run.motion, prov, ident)
+        files += ["motion_identification.json", "motion_identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
@@ -266,7 +323,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     views, overlay = run_views(run)
     view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
         if views else None
-    write_report(folder / "report.html", summary, charts, ident, view)
+    write_report(folder / "report.html", summary, charts, ident, motion, view)
     return summary
 
 
@@ -291,6 +348,28 @@ def written_config(config: dict, suspension, label: str, folder: Path,
     return out
 
 
+def _header(s, config_path: Path) -> str:
+    prov = config_provenance(s)
+    return (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
+            f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
+            "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+
+
+def _stiffness_files(folder: Path, start_config: dict, s, fit, where: Path,
+                     header: str) -> list[str]:
+    """identified_stiffness.yaml (the start model with the fitted laws) and the fit's
+    files."""
+    from elastokin.identification.stiffness_results import stiffness_config
+
+    write_config(folder / "identified_stiffness.yaml",
+                 written_config(stiffness_config(start_config, fit), s,
+                                "identified_stiffness", where, fit_again=False),
+                 header.format(what="identified model with the bushing laws fitted to the "
+                               "K&C test data"))
+    return ["identified_stiffness.yaml",
+            *write_stiffness_identification(folder, fit, config_provenance(s))]
+
+
 def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                  final_folder: Path | None = None) -> list[str]:
     """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
@@ -298,14 +377,9 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
     stiffness ``fit``, identified_stiffness.yaml and stiffness_identification.json / .txt.
     ``final_folder``: where the files end up (the configs' paths are relative to it; default
     ``folder``). Returns the names."""
-    from elastokin.identification.stiffness_results import stiffness_config
-
     s = ident.suspension
     where = final_folder or folder
-    prov = config_provenance(s)
-    header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
-              f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
-              "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+    header = _header(s, config_path)
     write_config(folder / "identified.yaml",
                  written_config(ident.identified_config, s, "identified", where),
                  header.format(what="identified model (joints from the assembled "
@@ -314,16 +388,34 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                                          where, fit_again=False),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
-    write_identification(folder, ident, prov)
+    write_identification(folder, ident, config_provenance(s))
     files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
     if fit is not None:
-        write_config(folder / "identified_stiffness.yaml",
-                     written_config(stiffness_config(ident.identified_config, fit), s,
-                                    "identified_stiffness", where, fit_again=False),
-                     header.format(what="identified model with the bushing laws fitted to "
-                                   "the K&C test data"))
-        files += ["identified_stiffness.yaml",
-                  *write_stiffness_identification(folder, fit, prov)]
+        files += _stiffness_files(folder, ident.identified_config, s, fit, where, header)
+    return files
+
+
+def write_motion_results(folder: Path, motion, fit, config_path: Path,
+                         final_folder: Path | None = None, ident: dict | None = None
+                         ) -> list[str]:
+    """``elastokin identify``'s files of the joints from motion: identified_motion.yaml (a
+    config ``elastokin kc`` loads, model ``identified_motion``; the stiffness fit switched on
+    in it when no part measurements were identified, ``ident`` None) and
+    motion_identification.json / .txt; with a stiffness ``fit`` started from it,
+    identified_stiffness.yaml and the fit's files. Returns the names."""
+    s = motion.suspension
+    where = final_folder or folder
+    header = _header(s, config_path)
+    write_config(folder / "identified_motion.yaml",
+                 written_config(motion.config, s, "identified_motion", where,
+                                fit_again=ident is None),
+                 header.format(what="model identified from the parts' motion (joints from "
+                               "the marks at several rig positions, no disassembly)"))
+    write_motion_identification(folder, motion, config_provenance(s), ident)
+    files = ["identified_motion.yaml", "motion_identification.json",
+             "motion_identification.txt"]
+    if fit is not None:
+        files += _stiffness_files(folder, motion.config, s, fit, where, header)
     return files
 
 

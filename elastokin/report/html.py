@@ -16,6 +16,7 @@ from pathlib import Path
 from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
+from elastokin.report.html_motion import motion_section
 from elastokin.report.html_parts import esc, figure, note, num, table
 from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
@@ -26,6 +27,7 @@ SECTIONS = (
     ("warnings", "Warnings"),
     ("view", "3D view"),
     ("identification", "Geometric identification"),
+    ("motion", "Joints from motion"),
     ("static", "Static state"),
     ("characteristics", "K&C characteristics"),
     ("charts", "Charts"),
@@ -116,6 +118,9 @@ def model_meaning(label: str, measured: bool) -> str:
                     else "the config's geometry"),
         "identified": "joints where the assembled measurement puts them, each bushing "
                       "deflected as at the static equilibrium (the paper's identified model)",
+        "identified_motion": "joints where the parts' motion over the rig positions locates "
+                             "them (no disassembly: SCoRE, SARA), bushings where the config "
+                             "puts them",
         "identified_stiffness": "the identified model with its bushing laws fitted to the "
                                 "test data",
     }
@@ -358,6 +363,7 @@ def provenance_section(summary: dict) -> list[str]:
 
 # ------------------------------------------------------------------------------ the page
 def report_sections(summary: dict, charts: list[Path], identification: dict | None = None,
+                    motion: dict | None = None,
                     view: tuple[str, float | None] | None = None
                     ) -> list[tuple[str, list[str]]]:
     """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
@@ -370,6 +376,7 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
              "view": view_section(*view) if view else None,
              "identification": (identification_section(identification)
                                 if identification else None),
+             "motion": motion_section(motion) if motion else None,
              "static": static_section(summary),
              "characteristics": characteristics_section(summary),
              "charts": (charts_section(charts, with_test,
@@ -386,12 +393,13 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
 
 
 def write_report(path: Path, summary: dict, charts: list[Path],
-                 identification: dict | None = None,
+                 identification: dict | None = None, motion: dict | None = None,
                  view: tuple[str, float | None] | None = None) -> Path:
     """Write ``report.html`` from ``summary.json``'s content, the PNG charts, (with
-    measurements) ``identification.json``'s content and the 3D view (its HTML fragment and
-    the identification's magnification, :func:`view_section`)."""
-    sections = report_sections(summary, charts, identification, view)
+    measurements) ``identification.json``'s and (with a motion plan)
+    ``motion_identification.json``'s content, and the 3D view (its HTML fragment and the
+    identification's magnification, :func:`view_section`)."""
+    sections = report_sections(summary, charts, identification, motion, view)
     title = f"K&C report: {summary.get('config_name') or summary['config_file']}"
     head = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta "
             f"name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>"

@@ -3,10 +3,12 @@ and outputs (units mm, N, N*mm, deg; config frame):
 
 1. ``test_data``: the config's K&C test files as sweeps (bad files fail before any solving);
 2. ``geometry``: with CMM measurements, the identified geometry
-   (:func:`elastokin.studies.identification.identify_geometry`);
-3. ``model_variants``: which models run (initial, identified, initial_kinematic; a config
-   without measurements runs under its ``label``, e.g. ``identified`` for the config that
-   ``elastokin identify`` writes);
+   (:func:`elastokin.studies.identification.identify_geometry`); with a motion plan
+   (``motion``), the joints located from the parts' motion (``motion_geometry``,
+   :func:`elastokin.identification.motion.identify.identify_motion`);
+3. ``model_variants``: which models run (initial, identified, identified_motion,
+   initial_kinematic; a config without measurements runs under its ``label``, e.g.
+   ``identified`` for the config that ``elastokin identify`` writes);
 4. ``preloads``: each variant's design preloads (one solve per distinct suspension);
 5. ``static``: the static equilibrium of the reported model under the design wheel load;
 6. ``load_cases``: every load case of the rig on every model, and its compliance matrix;
@@ -44,6 +46,7 @@ from elastokin.errors import ConfigError
 from elastokin.formats.cmm_parts import measurement_paths
 from elastokin.formats.kc_test_sweeps import read_test_sweeps, side_sweeps
 from elastokin.identification.geometric import Identification
+from elastokin.identification.motion.identify import MotionIdentification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
@@ -61,7 +64,12 @@ from elastokin.rig.load_cases import (
 )
 from elastokin.rig.sweeps import Sweep, find_sweep
 from elastokin.studies.cache import ResultCache, content_key
-from elastokin.studies.identification import identify_geometry
+from elastokin.studies.identification import (
+    cached_step,
+    identify_geometry,
+    motion_files,
+    motion_geometry,
+)
 
 Progress = Callable[[str], None]
 
@@ -122,6 +130,7 @@ class KCRun:
     # on comparing the models with the test, and the Python warnings of the run (add_warnings)
     warnings: list[str] = field(default_factory=list)
     reused: list[str] = field(default_factory=list)  # results taken from the cache
+    motion: MotionIdentification | None = None  # joints from motion, with a motion plan
 
     def summaries(self) -> dict[str, dict]:
         """Every model's summary figures (:meth:`ModelResult.summary`); a figure not
@@ -159,16 +168,14 @@ def geometry(suspension: Suspension, progress: Progress = _quiet,
     ``cache`` when the config and the CMM files are those it was computed from)."""
     if suspension.measurements is None:
         return None
-    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
-    ident = cache.get("geometry", key) if cache is not None else None
-    if ident is None:
+
+    def compute() -> Identification:
         progress("identifying the geometry from CMM data")
-        ident = identify_geometry(suspension)
-    else:
-        progress("identified geometry reused (same config and CMM files)")
-    if cache is not None:
-        cache.put("geometry", key, ident)
-    return ident
+        return identify_geometry(suspension)
+
+    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
+    return cached_step(cache, "geometry", key, compute, lambda: progress(
+        "identified geometry reused (same config and CMM files)"))
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -177,14 +184,28 @@ def model_labels(suspension: Suspension) -> list[str]:
     With CMM ``measurements``: ``initial`` (joints from the parts measured alone) and
     ``identified`` (see :mod:`elastokin.identification.geometric`). Otherwise ``initial``
     (the config's geometry, under the config's ``label``, ``initial`` by default; kinematic
-    when the config says ``kinematic: true``) and, when it is compliant, ``initial_kinematic``
-    (``<label>_kinematic``: every bushing replaced by its ideal joint).
+    when the config says ``kinematic: true``) and, when it is compliant and has no motion
+    plan, ``initial_kinematic`` (``<label>_kinematic``: every bushing replaced by its ideal
+    joint). With a motion plan (``motion``), ``identified_motion`` (joints located from the
+    parts' motion, :mod:`elastokin.identification.motion`) as well.
     """
+    motion = ["identified_motion"] if suspension.motion is not None else []
     if suspension.measurements is not None:
-        return ["initial", "identified"]
+        return ["initial", "identified", *motion]
+    if motion:
+        return [suspension.label, *motion]
     if not suspension.kinematic and suspension.bushings:
         return [suspension.label, f"{suspension.label}_kinematic"]
     return [suspension.label]
+
+
+def start_label(suspension: Suspension) -> str:
+    """The model whose static state is reported and from which the stiffness fit starts:
+    ``identified`` with CMM measurements, else ``identified_motion`` with a motion plan,
+    else the config's own."""
+    if suspension.measurements is not None:
+        return "identified"
+    return "identified_motion" if suspension.motion is not None else suspension.label
 
 
 def select_models(suspension: Suspension, names: str | None) -> list[str]:
@@ -201,26 +222,31 @@ def select_models(suspension: Suspension, names: str | None) -> list[str]:
         what = f"unknown model {', '.join(unknown)}" if unknown else "no model named"
         raise ConfigError(f"--models {names}: {what}; {suspension.source} yields "
                           f"{', '.join(available)}")
-    if "identified_stiffness" in chosen:
-        start = "identified" if suspension.measurements is not None else suspension.label
-        chosen = list(dict.fromkeys([*chosen, start]))  # the fit starts from it
+    if "identified_stiffness" in chosen:  # the fit starts from it
+        chosen = list(dict.fromkeys([*chosen, start_label(suspension)]))
     return chosen
 
 
-def model_variants(suspension: Suspension, ident: Identification | None = None
-                   ) -> dict[str, ModelVariant]:
+def model_variants(suspension: Suspension, ident: Identification | None = None,
+                   motion: MotionIdentification | None = None) -> dict[str, ModelVariant]:
     """Step ``model_variants``: the models of the run (:func:`model_labels`), each the
     template with its overrides."""
     s = suspension
+
+    def from_config(label, cfg):
+        return ModelVariant(label, suspension_from_dict(cfg, f"{s.source} ({label})", s.sha256))
+
     if ident is not None:
-        return {label: ModelVariant(label, suspension_from_dict(cfg, f"{s.source} ({label})",
-                                                                s.sha256))
-                for label, cfg in (("initial", ident.initial_config),
-                                   ("identified", ident.identified_config))}
-    labels = model_labels(s)
-    variants = {labels[0]: ModelVariant(labels[0], s)}
-    if len(labels) > 1:
-        variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
+        variants = {label: from_config(label, cfg)
+                    for label, cfg in (("initial", ident.initial_config),
+                                       ("identified", ident.identified_config))}
+    else:
+        labels = model_labels(s)
+        variants = {labels[0]: ModelVariant(labels[0], s)}
+        if len(labels) > 1 and labels[1] == f"{s.label}_kinematic":
+            variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
+    if motion is not None:
+        variants["identified_motion"] = from_config("identified_motion", motion.config)
     return variants
 
 
@@ -374,10 +400,12 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
                                                 or "identified_stiffness" in models):
         check_fit_test(suspension, side_sweeps(test, suspension.side, suspension))
     ident = geometry(suspension, progress, cache)
+    motion = motion_geometry(suspension, progress, cache)
     fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
-                          *map(Path, files))
+                          *motion_files(suspension), *map(Path, files))
     run = run_kc_from_identification(suspension, ident, progress, detail, (test, files),
-                                     models, None if cache is None else (cache, fit_key))
+                                     models, None if cache is None else (cache, fit_key),
+                                     motion)
     run.reused = list(cache.reused) if cache is not None else []
     return run
 
@@ -386,12 +414,15 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
                                progress: Progress = _quiet, detail: Progress = _quiet,
                                test: tuple[list[Sweep], list[str]] | None = None,
                                models: list[str] | None = None,
-                               fit_cache: tuple[ResultCache, str] | None = None) -> KCRun:
-    """The job from an identification result (None: the config's own geometry); ``models``:
-    only these (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
+                               fit_cache: tuple[ResultCache, str] | None = None,
+                               motion: MotionIdentification | None = None) -> KCRun:
+    """The job from an identification result (None: the config's own geometry) and the
+    joints located from the motion (``motion``, with a motion plan); ``models``: only these
+    (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
     test = test if test is not None else test_data(suspension)
-    variants = model_variants(suspension, ident)
-    static_label = "identified" if ident is not None else suspension.label
+    variants = model_variants(suspension, ident, motion)
+    static_label = "identified" if ident is not None else (
+        "identified_motion" if motion is not None else suspension.label)
     if models is not None:
         variants = {k: v for k, v in variants.items() if k in models}
         if static_label not in variants:
@@ -399,9 +430,11 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
     fit = models is None or "identified_stiffness" in models
     run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail,
                                fit, fit_cache)
-    run.identification = ident
+    run.identification, run.motion = ident, motion
     if ident is not None:
         run.add_warnings(ident.all_warnings)  # printed by kc and kept in summary.json
+    if motion is not None:
+        run.add_warnings(motion.warnings)
     return run
 
 
