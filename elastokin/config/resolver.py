@@ -146,8 +146,9 @@ class Resolver:
         """The resolved name of a corner item (connection, spring, stop)."""
         return name
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        """Whether a connection between ``parts`` belongs to this corner."""
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        """Whether the connection, spring or stop ``name`` between ``parts`` belongs to this
+        corner."""
         return True
 
     def attempt(self, make):
@@ -158,7 +159,7 @@ class Resolver:
     def corner(self) -> CornerItems:
         """The corner's joints, links, bushings, springs, stops and wheel."""
         items = [self.attempt(lambda n=name, c=c: self.connection(n, c))
-                 for name, c in self.spec.connections.items() if self.keep(c.parts)]
+                 for name, c in self.spec.connections.items() if self.keep(name, c.parts)]
         return CornerItems(tuple(i for i in items if isinstance(i, Joint)),
                            tuple(i for i in items if isinstance(i, Link)),
                            tuple(i for i in items if isinstance(i, Bushing)),
@@ -233,7 +234,7 @@ class Resolver:
 
     def springs(self) -> list[Spring]:
         springs = [self.attempt(lambda n=name, sp=sp: self.spring(n, sp))
-                   for name, sp in self.spec.springs.items() if self.keep(sp.parts)]
+                   for name, sp in self.spec.springs.items() if self.keep(name, sp.parts)]
         return [sp for sp in springs if sp is not None]
 
     def spring(self, name: str, sp) -> Spring:
@@ -245,7 +246,7 @@ class Resolver:
 
     def stops(self) -> list[Stop]:
         stops = [self.attempt(lambda n=name, st=st: self.stop(n, st))
-                 for name, st in self.spec.stops.items() if self.keep(st.parts)]
+                 for name, st in self.spec.stops.items() if self.keep(name, st.parts)]
         return [st for st in stops if st is not None]
 
     def stop(self, name: str, st) -> Stop:

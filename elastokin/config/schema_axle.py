@@ -125,6 +125,10 @@ class VehicleSpec(StrictModel):
     #: (the force acts at the contact patch, ADAMS/Car's convention), ``inboard`` by the body
     #: (inboard brakes, a chassis-mounted final drive: at the wheel centre)
     drive: Literal["outboard", "inboard"] = "outboard"
+    #: a driven solid axle (ADAMS/Car's "dependent" suspension type): the final drive ratio
+    #: (propeller-shaft turns per wheel turn); the axle housing reacts the pinion torque,
+    #: which adds -/+ T/track to the wheel loads in anti-squat and traction anti-lift
+    live_axle_ratio: float | None = Field(default=None, gt=0)
 
     # values outside a plausible range are refused with the likely unit slip named
     _plausible = field_validator("wheelbase_mm", "cg_height_mm")(plausible)
@@ -133,10 +137,14 @@ class VehicleSpec(StrictModel):
 
 class AxleSpec(StrictModel):
     """The axle: the other corner (mirrored, ``other_side`` overrides), parts declared once
-    (``shared``), the steering rack, the anti-roll bar and vehicle data."""
+    (``shared``; a shared part may carry both wheels: a solid axle), the connections, springs
+    and stops among shared parts and the ground that exist on both sides (``both_sides``:
+    mirrored as a corner's are, e.g. a solid axle's trailing links and springs), the steering
+    rack, the anti-roll bar and vehicle data."""
 
     other_side: OtherSideSpec = OtherSideSpec()
     shared: list[str] = []
+    both_sides: list[str] = []
     steering: SteeringSpec | None = None
     anti_roll_bar: AntiRollBarSpec | None = None
     vehicle: VehicleSpec | None = None

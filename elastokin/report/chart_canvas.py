@@ -140,6 +140,19 @@ def corner_counts(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int,
     return counts
 
 
+#: the smallest y range a chart shows (its display unit): a quantity that does not change
+#: (the toe of an axle that cannot steer) is drawn flat, not as solver noise of 1e-16
+MIN_Y_SPAN = 1e-4
+
+
+def floor_y_span(ax, min_span: float = MIN_Y_SPAN) -> None:
+    """Widen ``ax``'s y range about its middle to ``min_span`` when it is narrower."""
+    y0, y1 = ax.get_ylim()
+    if y1 - y0 < min_span:
+        mid = 0.5 * (y0 + y1)
+        ax.set_ylim(mid - 0.5 * min_span, mid + 0.5 * min_span)
+
+
 def legend_height(entries: int) -> float:
     """About how high a legend of ``entries`` lines is, as a fraction of a chart's axes."""
     return min(0.9, 0.06 * entries + 0.04)

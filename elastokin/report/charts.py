@@ -32,6 +32,7 @@ from elastokin.report.chart_canvas import (
     LEGEND_FORMATS,
     STYLE,
     ChartCanvas,
+    floor_y_span,
     footer_text,
     legend_corner,
     provenance_footer,
@@ -210,6 +211,7 @@ def draw_chart(canvas: ChartCanvas, data: ChartData, provenance: dict):
     ax.set_ylabel(data.ylabel, fontsize=9)
     ax.set_title(data.title, fontsize=11, y=1.0, pad=7)
     ax.grid(True, alpha=0.3)
+    floor_y_span(ax)
     corner = legend_corner(ax, [(xs, ys) for _, _, xs, ys in data.lines], len(data.lines))
     ax.legend(fontsize=8, loc=corner, framealpha=0.9)
     if axr is not None:

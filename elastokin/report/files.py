@@ -20,7 +20,7 @@ import numpy as np
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
 from elastokin.report.text import identification_table, motion_table
-from elastokin.rig.axle_channels import design_track_mm
+from elastokin.rig.axle_channels import dependent_axle, design_track_mm
 from elastokin.rig.channels import sign_conventions
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
@@ -129,12 +129,14 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
 def axle_data(s) -> dict:
     """summary.json ``axle``: the axle's make-up and vehicle data (the figures are per model,
     ``models.<label>.axle``): its sides (the config's first), the design track at the contact
-    points [mm], shared parts, steering and anti-roll bar present, and the config's
-    ``axle.vehicle`` (None without)."""
+    points [mm], shared parts, whether the wheels are dependent (a solid axle: the
+    kinematic roll centre is then the instant centre of the axle's roll motion), steering and
+    anti-roll bar present, and the config's ``axle.vehicle`` (None without)."""
     v = s.axle.vehicle
     return {"sides": list(s.axle.sides), "config_side": s.side,
             "track_mm": design_track_mm(s),
             "shared_parts": list(s.axle.shared),
+            "dependent": dependent_axle(s),
             "steering": s.axle.steering is not None,
             "anti_roll_bar": s.axle.anti_roll_bar is not None,
             "vehicle": v.model_dump() if v is not None else None,

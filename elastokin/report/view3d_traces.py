@@ -13,7 +13,11 @@ from elastokin.rig.scene import Scene, SceneItem
 #: the marker of each joint kind (plotly's 3D symbols)
 JOINT_SYMBOLS = {"spherical": "circle", "revolute": "diamond", "cylindrical": "square",
                  "translational": "square-open", "universal": "cross", "fixed": "x",
-                 "rack": "diamond-open", "planar": "circle-open"}
+                 "rack": "diamond-open", "planar": "circle-open", "inplane": "square-open"}
+#: the marker of a joint kind not listed above
+OTHER_JOINT_SYMBOL = "circle-open"
+#: the scene's items that are not joints
+ITEM_KINDS = ("bushing", "link", "spring", "bump stop", "rebound stop", "anti-roll bar")
 #: joint kinds drawn with their axis (the joint frame's z)
 AXIS_KINDS = ("revolute", "cylindrical", "translational", "rack", "universal",
               "anti-roll bar")
@@ -132,11 +136,12 @@ def connection_traces(t: Traces, scene: Scene, model: str, group: str) -> list[i
     """Joints by kind (markers), joint axes, bushings (coloured by deflection) with their
     frames, links, springs, stops."""
     out = []
-    joints = [i for i in scene.items if i.kind in JOINT_SYMBOLS]
+    joints = [i for i in scene.items if i.kind not in ITEM_KINDS]
     for kind in dict.fromkeys(i.kind for i in joints):
         mine = [i for i in joints if i.kind == kind]
         out.append(_item_points(t, scene, model, mine, f"{kind} joints",
-                                {"symbol": JOINT_SYMBOLS[kind], "size": 6, "color": "#222",
+                                {"symbol": JOINT_SYMBOLS.get(kind, OTHER_JOINT_SYMBOL),
+                                 "size": 6, "color": "#222",
                                  "line": {"color": "#222", "width": 1}}, group))
     axes = [(i.carriers[0], np.array([i.points_mm[0] - AXIS_MM * i.frame[:, 2],
                                       i.points_mm[0] + AXIS_MM * i.frame[:, 2]]))

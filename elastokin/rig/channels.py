@@ -125,8 +125,9 @@ CHANNEL_LIST = (
             "anti-roll bar torque [N*mm]", adams="arb_torque", per_axle=True),
     Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
             "(instant centres of both wheels in the front view, ADAMS/Car's kinematic "
-            "method; axle, parallel travel, or opposite wheel travel on an axle joined by a "
-            "flexible beam)", "roll centre height [mm]",
+            "method; axle, parallel travel (a solid axle: of its roll motion at each step), or "
+            "opposite wheel travel on an axle joined by a flexible beam)",
+            "roll centre height [mm]",
             adams="roll_center_location_vertical", per_axle=True),
     Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
             "the vehicle's left (axle, parallel travel, or opposite wheel travel on an axle "
@@ -375,8 +376,9 @@ def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Charac
 AXLE_CHARACTERISTIC_LIST = (
     _axle("roll_centre_height_mm", "roll centre height (kinematic)", "mm", ".1f",
           "where the lines from each contact point normal to its velocity in parallel travel "
-          "(in opposite wheel travel on an axle joined by a flexible beam: a twist beam) "
-          "meet (front view), above the contact points, at the static state"),
+          "(a solid axle: in its roll motion; in opposite wheel travel on an axle joined by a "
+          "flexible beam: a twist beam) meet (front view), above the contact points, at the "
+          "static state"),
     _axle("roll_centre_lateral_mm", "roll centre lateral (kinematic)", "mm", ".1f",
           "its lateral position, + to the vehicle's left"),
     _axle("roll_centre_height_force_based_mm", "roll centre height (force-based)", "mm",

@@ -28,6 +28,7 @@ from elastokin.physics.steering_geometry import (
     kingpin_inclination_deg,
     scrub_radius_mm,
 )
+from elastokin.rig.channels import STEERING_AXIS_COLUMNS
 
 
 def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
@@ -94,7 +95,22 @@ def skeleton_elements(s: Suspension, rack_released: bool, released_links: set[st
     """Every joint, bushing (its ideal joint), link and spring of ``s`` as a skeleton
     element: a rack's travel released or held (``rack_released``), the links named in
     ``released_links`` released, the springs' lengths released or locked."""
-    racks = {j.name for j in _rack_joints(s)}
+    elements = joint_elements(s, release_rack=rack_released)
+    for lk in s.links:
+        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
+                                        released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held; released: the travel's input
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm,
+                                        released=springs_released, spring=not springs_released))
+    return elements
+
+
+def joint_elements(suspension: Suspension, release_rack: bool) -> list[SkeletonElement]:
+    """Every ideal joint and every bushing (as its ideal joint, frozen at its deflection) of
+    ``suspension`` as skeleton elements; a steering rack free along its axis and released
+    (``release_rack``: the steering input) or held."""
+    s = suspension
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
     elements: list[SkeletonElement] = []
     for j in s.joints:
         flags = list(j.constrained)
@@ -103,21 +119,27 @@ def skeleton_elements(s: Suspension, rack_released: bool, released_links: set[st
         frame = np.asarray(j.frame, float)
         points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
                   j.position_mm + shift1)
-        if j.name in racks:
-            flags[2] = 0  # the rack moves along its axis (the joint frame's z)
-            elements.append(SkeletonElement("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
-                                            released=rack_released))
+        if j.kind == "rack" or j.name == axle_rack:
+            flags[2] = 0 if release_rack else 1  # the rack along its axis (the frame's z)
+            if release_rack:
+                elements.append(SkeletonElement("joint", j.parts, points, frame,
+                                                (0, 0, 1, 0, 0, 0), released=True))
         elements.append(SkeletonElement("joint", j.parts, points, frame, tuple(flags)))
     for b in s.bushings:
         elements.append(SkeletonElement("joint", b.parts, (b.position_mm, b.position_mm),
-                                        np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
-    for lk in s.links:
-        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
-                                        released=lk.name in released_links))
-    for sp in s.springs:  # locked: the travel is held; released: the travel's input
-        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm,
-                                        released=springs_released, spring=not springs_released))
+                                        np.asarray(b.frame, float),
+                                        CONSTRAINED[b.ideal_joint]))
     return elements
+
+
+def steerable(suspension: Suspension) -> bool:
+    """Whether the wheel can be steered at all: a steering rack, or a link (tie rod, toe
+    link) on the wheel part. A suspension without either (a trailing arm, a solid axle) has no
+    steering axis: its columns are empty without a warning (docs/characteristics.md)."""
+    s = suspension
+    rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    return any(j.kind == "rack" or j.name == rack for j in s.joints) or \
+        any(s.wheel.part in lk.parts for lk in s.links)
 
 
 class SteeringAxisWarning(UserWarning):
@@ -133,6 +155,9 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
     s = suspension
     centre = np.array([st.wheel_centre_mm for st in states])
     spin = np.array([st.spin_axis for st in states])
+    if not steerable(s):
+        nan = np.full(len(states), np.nan)
+        return {name: nan.copy() for name in STEERING_AXIS_COLUMNS}
     skeleton = steering_skeleton(s)
     axes = steering_axes_from_poses(skeleton, [st.poses for st in states], centre)
     d, p = axes.direction.copy(), axes.point
