@@ -116,7 +116,7 @@ def axle_page(axle_results) -> Page:
 
 
 def test_a_section_per_stage_in_order(page):
-    assert [s[0] for s in page.sections] == ["summary", "warnings", "identification",
+    assert [s[0] for s in page.sections] == ["summary", "warnings", "view", "identification",
                                              "static", "characteristics", "charts", "axle",
                                              "loads", "errors", "signs", "provenance"]
     for number, (key, heading) in enumerate(page.sections, start=1):
@@ -183,7 +183,7 @@ def _rows(page: Page) -> dict[str, list[str]]:
 
 def test_axle_section_of_the_double_wishbone_axle(axle_page, axle_results):
     summary = json.loads((axle_results / "summary.json").read_text())
-    assert [s[0] for s in axle_page.sections] == ["summary", "warnings", "static",
+    assert [s[0] for s in axle_page.sections] == ["summary", "warnings", "view", "static",
                                                   "characteristics", "charts", "axle",
                                                   "loads", "signs", "provenance"]
     # the rig's 25 deg steering step leaves one steering-wheel angle (0) in the +-20 deg

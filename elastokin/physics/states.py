@@ -76,6 +76,45 @@ class LoadTable:
 
 
 @dataclass
+class PoseSeries:
+    """The poses of the moving parts at every step of a sweep (config frame): ``rotation``
+    (steps, 3, 3) from the design position and ``displacement_mm`` (steps, 3) of each part's
+    reference point ``reference_mm`` (3,) (design position), as :class:`PartPoses` per step."""
+
+    rotation: dict[str, np.ndarray] = field(default_factory=dict)
+    displacement_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @classmethod
+    def stack(cls, poses: list[PartPoses]) -> PoseSeries:
+        """The series of one :class:`PartPoses` per step (the first step's parts)."""
+        names = list(poses[0].rotation) if poses else []
+        return cls({n: np.array([p.rotation[n] for p in poses]) for n in names},
+                   {n: np.array([p.displacement_mm[n] for p in poses]) for n in names},
+                   {n: np.asarray(poses[0].reference_mm[n], float) for n in names})
+
+    @property
+    def steps(self) -> int:
+        return len(next(iter(self.rotation.values()))) if self.rotation else 0
+
+    def at(self, step: int) -> PartPoses:
+        """The poses at one step."""
+        return PartPoses({n: r[step] for n, r in self.rotation.items()},
+                         {n: d[step] for n, d in self.displacement_mm.items()},
+                         dict(self.reference_mm))
+
+    def transforms(self, part: str, steps) -> tuple[np.ndarray, np.ndarray]:
+        """(R (k, 3, 3), t (k, 3)) of ``part`` at ``steps`` (indices) with x_now = R x + t for
+        a point x at the design position; the identity for the ground and unknown parts."""
+        steps = np.asarray(steps, int)
+        if part not in self.rotation:
+            return np.broadcast_to(np.eye(3), (steps.size, 3, 3)), np.zeros((steps.size, 3))
+        R = self.rotation[part][steps]
+        ref = self.reference_mm[part]
+        return R, ref + self.displacement_mm[part][steps] - R @ ref
+
+
+@dataclass
 class StateSensitivity:
     """Derivatives of one solved step with respect to n parameters (config frame): of each
     point sensor's position (name -> (3, n), mm per unit parameter) and of each recorded part's

@@ -308,6 +308,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
     from elastokin.report.load_charts import LOAD_CHART, load_chart_data
+    from elastokin.report.view3d import run_views, view_fragment
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
@@ -333,7 +334,10 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     files += loads + load_chart
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts, ident, motion)
+    views, overlay = run_views(run)
+    view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
+        if views else None
+    write_report(folder / "report.html", summary, charts, ident, motion, view)
     return summary
 
 

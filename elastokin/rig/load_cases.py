@@ -25,7 +25,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
-from elastokin.physics.states import LoadTable
+from elastokin.physics.states import LoadTable, PoseSeries
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
@@ -78,6 +78,7 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     by_side = {side: [st[side] for st in steps] for side in s.sides}
     first = by_side[s.side]
     loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
+    poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
     shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
     sweeps = []
     for side in s.sides:
@@ -86,7 +87,7 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side,
-                            loads if side == s.side else None))
+                            loads=loads if side == s.side else None, poses=poses))
     return sweeps
 
 

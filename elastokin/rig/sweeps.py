@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.physics.states import LoadTable
+from elastokin.physics.states import LoadTable, PoseSeries
 
 
 @dataclass
@@ -30,6 +30,9 @@ class Sweep:
     #: the load of every element of the model at every step (the whole model's: carried by
     #: the config side's sweep only; None: not recorded, test data, results read back)
     loads: LoadTable | None = None
+    #: every moving part's pose at every step (the whole model's, the same in each wheel's
+    #: sweep; None: not recorded, e.g. test data or results read back from files)
+    poses: PoseSeries | None = None
 
     def stroke(self, name: str) -> np.ndarray:
         return self.columns[name][self.columns["branch"] == "stroke"]
