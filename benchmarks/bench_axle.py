@@ -1,16 +1,18 @@
-"""Per-point cost of an axle's load cases against its corner's (issue 18, "Measures").
+"""Per-point cost of an axle's load cases, for every shipped kind, against its corner's
+(issues 18 and 25, "Measures").
 
 For each suspension, in one run on this machine: the axle (both wheels, the config as it is)
-and its corner (the config side alone, ``ek.corner``: the config without its ``axle``
-section), each built once; then every load case both run (parallel
-travel, vertical force, and the in-phase force cases) timed on both, and the axle's own cases
-(opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle.
-A load case's time is that of ``ek.run_drive_sides`` (the solve
-of every step, as one ``SolveStatic``, and every channel of both wheels), best of
-``--repeat``; per point = time / the drive's steps. The ratio axle / corner is per point of
-the same load case. Suspensions: the shipped double wishbone axle
-(configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
-(configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
+and, for an independent axle, its corner (the config side alone,
+``ek.corner``: the config without its ``axle`` section; a solid
+axle has none: one part carries both wheels), each built once; then every load case timed on
+both (parallel travel, vertical force, and the in-phase force cases), and the axle's own cases
+(opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle. A
+load case's time is that of ``ek.run_drive_sides`` (the solve of
+every step, as one ``SolveStatic``, and every channel of both wheels), best of ``--repeat``;
+per point = time / the drive's steps. The ratio axle / corner is per point of the same load
+case. Suspensions, each at its own rig: the double wishbone axle (rack, anti-roll bar,
+bushings, stops), the case study (a decoupled mirrored axle), the multi-link, the
+semi-trailing arm, the solid axles with a Panhard rod and with a Watt's linkage.
 
 The twist beam (configs/twist_beam_axle.yaml) is timed against the same axle with a rigid
 cross beam (``ek.rigid_beams``; built with the flexible axle's
@@ -21,8 +23,8 @@ costs per point.
 Each model's static state (the zero of every load case) is solved once, as ``elastokin kc``
 does, and not timed. Prints the figures and writes them to
 ``benchmarks/results/bench_axle.json``, with the machine's load average before and after. No
-target: the measure the issue asks for. ``--quick``: parallel travel only
-(configs/rigs/travel_only.yaml), one run (bench_common).
+target: the measure the issues ask for. ``--quick``: parallel travel only
+(configs/rigs/travel_only.yaml), one run (bench_common). Through elastokin's public API only.
 """
 
 from __future__ import annotations
@@ -41,11 +43,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_common import add_output_options, output_path, write_json  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+CONFIGS = {name: ROOT / "configs" / f"{file}.yaml" for name, file in (
+    ("double_wishbone_axle", "double_wishbone_axle"), ("case_study", "pseudo_mcpherson"),
+    ("multilink", "multilink_axle"), ("semi_trailing_arm", "semi_trailing_arm_axle"),
+    ("solid_axle_panhard", "solid_axle_panhard"), ("solid_axle_watt", "solid_axle_watt"))}
+TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 #: the rig of the quick mode (bench_common): parallel travel only, +-50 mm in 2 mm steps
 QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
-CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
-           "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
-TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 
 
 def best_of(fn, repeat: int) -> float:
@@ -74,12 +78,14 @@ def load_case_times(s, repeat: int, design=None) -> tuple[float, dict[str, dict]
 
 
 def compare(path: Path, repeat: int, rig: Path | None = None) -> dict:
+    """The figures of one suspension: the axle's, and its corner's where it has one."""
     axle = ek.load_suspension_with_rig(path, rig)
-    alone = ek.corner(axle)
     build_axle, times_axle = load_case_times(axle, repeat)
-    build_corner, times_corner = load_case_times(alone, repeat)
-    ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
-              for case, c in times_corner.items() if case in times_axle}
+    build_corner, times_corner, ratios = None, {}, {}
+    if not ek.dependent_axle(axle):
+        build_corner, times_corner = load_case_times(ek.corner(axle), repeat)
+        ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
+                  for case, c in times_corner.items() if case in times_axle}
     return {"config": str(path.relative_to(ROOT)), "config_sha256": axle.sha256,
             "build_s": {"axle": build_axle, "corner": build_corner},
             "axle": times_axle, "corner": times_corner,
@@ -125,8 +131,9 @@ def main(argv: list[str] | None = None) -> None:
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {result['load_average_after'][0]:.2f}")
     for name, f in figures.items():
+        built = f["build_s"]["corner"]
         print(f"\n{name} ({f['config']}): build axle {f['build_s']['axle']:.2f} s, corner "
-              f"{f['build_s']['corner']:.2f} s")
+              + (f"{built:.2f} s" if built is not None else "- (a solid axle)"))
         print(f"  {'load case':<28}{'points':>7}{'axle ms/pt':>12}{'corner ms/pt':>14}"
               f"{'ratio':>8}")
         for case, a in f["axle"].items():

@@ -37,6 +37,7 @@ _API = {
     "load_suspension_with_rig": "elastokin.config.loading",
     "load_rig": "elastokin.config.loading",
     "suspension_from_dict": "elastokin.config.loading",
+    "data_folders": "elastokin.config.confined",
     "Suspension": "elastokin.config.suspension",
     "ModelVariant": "elastokin.config.variants",
     "DesignState": "elastokin.config.variants",
@@ -63,6 +64,7 @@ _API = {
     "run_pad": "elastokin.rig.pad",
     "summary_figures": "elastokin.rig.characteristics",
     "steer_amplitude_deg": "elastokin.rig.characteristics",
+    "dependent_axle": "elastokin.rig.axle_channels",
     "Sweep": "elastokin.rig.sweeps",
     "CHANNELS": "elastokin.rig.channels",
     # identification and studies
@@ -84,7 +86,7 @@ _API = {
     # results
     "write_kc_results": "elastokin.report.files",
     "read_results": "elastokin.report.files",
-    "draw_kc_charts": "elastokin.report.files",
+    "draw_kc_charts": "elastokin.report.charts",
     # provenance
     "exudyn_version": "elastokin.version",
 }

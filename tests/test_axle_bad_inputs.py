@@ -141,10 +141,27 @@ INPUT_CASES = [  # issue 24: values that cannot be meant, names the mirror takes
 ]
 
 
-@pytest.mark.parametrize("edit, key, words", [c[1:] for c in CASES + INPUT_CASES],
-                         ids=[c[0] for c in CASES + INPUT_CASES])
-def test_bad_axle_config(edit, key, words):
-    d = config("double_wishbone_axle.yaml")
+#: on the solid axle with a Panhard rod: items among the shared tube and the ground that
+#: exist on both sides (axle.both_sides)
+SOLID_AXLE_CASES = [
+    ("both_sides_unknown", _edit("axle.both_sides", ["coil", "coil_spring"]),
+     "axle.both_sides[1]", ["no connection, spring or stop 'coil_spring'"]),
+    ("both_sides_twice", _edit("axle.both_sides", ["coil", "coil"]), "axle.both_sides[1]",
+     ["listed twice"]),
+    ("both_sides_corner_item", _edit("axle.both_sides", ["coil", "arb_bearing"]),
+     "axle.both_sides[1]", ["corner part 'arb'", "both sides already"]),
+    ("both_sides_on_centre_plane", _edit("axle.both_sides", ["coil", "axle_guide"]),
+     "connections.axle_guide", ["axle.both_sides", "y = 0 mm", "left side"]),
+]
+
+
+@pytest.mark.parametrize(
+    "name, edit, key, words",
+    [("double_wishbone_axle.yaml", *c[1:]) for c in CASES + INPUT_CASES]
+    + [("solid_axle_panhard.yaml", *c[1:]) for c in SOLID_AXLE_CASES],
+    ids=[c[0] for c in CASES + INPUT_CASES + SOLID_AXLE_CASES])
+def test_bad_axle_config(name, edit, key, words):
+    d = config(name)
     edit(d)
     message = _error(d)
     assert message.startswith(f"axle.yaml: key '{key}':"), message

@@ -152,12 +152,11 @@ def check_track(corner, other, fail) -> None:
 
 
 def check_shared(s, spec: AxleSpec, fail) -> None:
-    """Shared parts exist and are not the wheel part; the overrides name corner items only."""
+    """Shared parts exist (a shared wheel part carries both wheels: a solid axle); the
+    overrides name corner items only."""
     for i, name in enumerate(spec.shared):
         if name not in s.parts:
             raise fail(f"axle.shared[{i}]", f"no part '{name}' (parts: {', '.join(s.parts)})")
-        if name == s.wheel.part:
-            raise fail(f"axle.shared[{i}]", f"'{name}' carries the wheel: a corner part")
     for i, name in enumerate(spec.shared):
         if name in spec.shared[:i]:
             raise fail(f"axle.shared[{i}]", f"'{name}' is listed twice (a shared part is "
@@ -203,7 +202,7 @@ def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
             mirrored[name + suffix] = f"part '{name}'"
     for section in ("connections", "springs"):
         for name, item in (s.raw.get(section) or {}).items():
-            if not declared_once(tuple(item["parts"]), shared, s.ground):
+            if not kept_once(name, tuple(item["parts"]), spec, s.ground):
                 mirrored[name + suffix] = f"{section[:-1]} '{name}'"
     sections = {"parts": mirrored, "connections": mirrored, "springs": mirrored,
                 "stops": {n + suffix: f"stop '{n}'" for n in (s.raw.get("stops") or {})},
@@ -221,7 +220,7 @@ def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:
     ground, from the config's mapping."""
     out = []
     for name, c in s.raw["connections"].items():
-        if declared_once(c["parts"], spec.shared, s.ground):
+        if kept_once(name, c["parts"], spec, s.ground):
             pts = c["at"] if isinstance(c.get("at"), (list, tuple)) else [c.get("at")]
             names = {p for p in pts if isinstance(p, str)}
             for k in ("axis", "radial", "torsion_axis"):
@@ -255,3 +254,74 @@ def mirrored_bushing(b, override_laws: tuple | None) -> object:
 def declared_once(parts: tuple[str, str], shared, ground: str) -> bool:
     """True for a connection among shared parts and the ground (kept once on an axle)."""
     return set(parts) <= set(shared) | {ground}
+
+
+def kept_once(name: str, parts: tuple[str, str], spec: AxleSpec, ground: str) -> bool:
+    """True for a connection, spring or stop kept once on an axle: among shared parts and
+    the ground, and not listed in ``axle.both_sides``."""
+    return name not in spec.both_sides and declared_once(parts, spec.shared, ground)
+
+
+def item_points(s, name: str) -> list[np.ndarray]:
+    """The points (config frame) of the resolved corner's connection, spring or stop
+    ``name``."""
+    for j in (*s.joints, *s.bushings):
+        if j.name == name:
+            return [j.position_mm]
+    for item, attr in ((s.links, "points_mm"), (s.springs, "seats_mm"),
+                       (s.stops, "points_mm")):
+        for it in item:
+            if it.name == name:
+                return list(getattr(it, attr))
+    return []
+
+
+def check_both_sides(s, spec: AxleSpec, fail) -> None:
+    """Every name of ``axle.both_sides`` is a connection, spring or stop among shared parts
+    and the ground (a corner's are on both sides already), not the steering rack, with every
+    point on the config's side of the centre plane (its mirror is the other side's)."""
+    sections = {sec: s.raw.get(sec) or {} for sec in ("connections", "springs", "stops")}
+    rack = spec.steering.rack if spec.steering is not None else None
+    for i, name in enumerate(spec.both_sides):
+        key = f"axle.both_sides[{i}]"
+        found = [sec for sec, items in sections.items() if name in items]
+        if not found:
+            raise fail(key, f"no connection, spring or stop '{name}'")
+        if name in spec.both_sides[:i]:
+            raise fail(key, f"'{name}' is listed twice")
+        parts = tuple(sections[found[0]][name]["parts"])
+        if not declared_once(parts, spec.shared, s.ground):
+            corner = sorted(set(parts) - set(spec.shared) - {s.ground})
+            raise fail(key, f"'{name}' joins the corner part '{corner[0]}': it is on both "
+                       "sides already (axle.both_sides is for items among shared parts and "
+                       "the ground)")
+        if name == rack:
+            raise fail(key, f"'{name}' is the steering rack (axle.steering.rack), kept once")
+        for p in item_points(s, name):
+            if float(p @ s.outboard) <= CENTRE_PLANE_TOLERANCE_MM:
+                raise fail(f"{found[0]}.{name}", f"listed in axle.both_sides, but its point at "
+                           f"y = {p[1]:.6g} mm is not on the {s.side} side of the vehicle "
+                           "centre plane: its mirror would be on this side")
+
+
+#: the wheel load at rest of ``axle.vehicle.axle_mass_kg`` may differ from the design wheel
+#: load by this factor either way (the static-load analysis may be at another payload);
+#: beyond it, it is a slip (a total mass, a load in N, a mass of the other axle)
+AXLE_MASS_TOLERANCE = 2.0
+
+
+def check_axle_mass(spec: AxleSpec, design_wheel_load_N: float, fail) -> None:
+    """The mass ``axle.vehicle.axle_mass_kg`` gives this axle agrees with the design wheel
+    load (within :data:`AXLE_MASS_TOLERANCE`)."""
+    v = spec.vehicle
+    if v is None or v.axle_mass_kg is None:
+        return
+    mass = getattr(v.axle_mass_kg, v.position)
+    at_rest = mass * 9.80665 / 2.0
+    ratio = at_rest / design_wheel_load_N
+    if not 1.0 / AXLE_MASS_TOLERANCE <= ratio <= AXLE_MASS_TOLERANCE:
+        expected = 2.0 * design_wheel_load_N / 9.80665
+        raise fail(f"axle.vehicle.axle_mass_kg.{v.position}",
+                   f"{mass:g} kg puts {at_rest:.0f} N on each wheel at rest, {ratio:.2f} times "
+                   f"design.wheel_load_N ({design_wheel_load_N:g} N): expected the mass this "
+                   f"({v.position}) axle carries, about {expected:.0f} kg for that design load")

@@ -13,6 +13,8 @@ import numpy as np
 
 from elastokin.config.axle import (
     MIRROR,
+    check_axle_mass,
+    check_both_sides,
     check_mirror_plane,
     check_names,
     check_other_side_plane,
@@ -20,6 +22,7 @@ from elastokin.config.axle import (
     check_track,
     curve_problem,
     declared_once,
+    kept_once,
     mirrored_bushing,
     mirrored_hardpoints,
     other_side,
@@ -56,8 +59,8 @@ class MirroredResolver(Resolver):
     def name(self, name: str) -> str:
         return name + self.suffix
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        return not declared_once(parts, self.shared, self.spec.ground)
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        return not kept_once(name, parts, self.spec.axle, self.spec.ground)
 
     def part(self, name: str, key: str) -> str:
         base = super().part(name, key)
@@ -99,7 +102,9 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_shared(corner, spec, resolver.fail)
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
+    check_both_sides(corner, spec, resolver.fail)
     check_other_side_plane(corner, spec, resolver.fail)
+    check_axle_mass(spec, resolver.spec.design.wheel_load_N, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
     check_track(corner, other, resolver.fail)
@@ -115,7 +120,9 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     hardpoints = dict(corner.hardpoints)
     hardpoints.update({n + suffix: v for n, v in mirrored.hardpoints.items()})
     d = resolver.spec.design
-    balance = (d.balance_spring, d.balance_spring + suffix) if d.balance_spring else ()
+    springs = {sp.name for sp in corner.springs + other.springs}
+    balance = tuple(n for n in (d.balance_spring, f"{d.balance_spring}{suffix}")
+                    if d.balance_spring and n in springs)
     axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
                 spec.vehicle, balance)
     beams = []

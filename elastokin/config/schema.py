@@ -97,6 +97,22 @@ class TranslationalSpec(_Joint):
     axis: AxisSpec
 
 
+class PlanarSpec(_Joint):
+    """Planar joint: part 2 slides in and turns about the normal of a plane of part 1 through
+    ``at`` normal to ``axis`` (a guide that leaves heave and roll free)."""
+
+    type: Literal["planar"]
+    axis: AxisSpec
+
+
+class InplaneSpec(_Joint):
+    """Point-in-plane joint: the point ``at`` of part 2 stays in the plane of part 1 normal to
+    ``axis`` (one constraint)."""
+
+    type: Literal["inplane"]
+    axis: AxisSpec
+
+
 class UniversalSpec(_Joint):
     """Hooke joint: free to bend about the two axes normal to ``torsion_axis``."""
 
@@ -174,7 +190,7 @@ class BushingSpec(_Joint):
 
 ConnectionSpec = Annotated[
     SphericalSpec | FixedSpec | RevoluteSpec | CylindricalSpec | TranslationalSpec
-    | UniversalSpec | RackSpec | LinkSpec | BushingSpec,
+    | PlanarSpec | InplaneSpec | UniversalSpec | RackSpec | LinkSpec | BushingSpec,
     Field(discriminator="type"),
 ]
 

@@ -41,6 +41,7 @@ from elastokin.formats.adams_axle import (
     assembly_text,
     axle_subsystems,
     curve_file_text,
+    kept_once_hardpoints,
     steering_parameters,
 )
 from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
@@ -290,7 +291,8 @@ def export_adams(s: Suspension, out_dir: str | Path,
     files, bus_files, written, extra = {}, {}, {}, {}
     for role, part in parts.items():
         sp = specs[role]
-        rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints)
+        rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints,
+                                             kept_once_hardpoints(s))
         brows, more = bushing_rows(s, sp, part.bushings, usages, preload)
         bus_files.update(more)
         params, extra[role] = _parameters(s, role, mapping)

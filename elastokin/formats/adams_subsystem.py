@@ -171,12 +171,15 @@ def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
     return adams, side or (mapping.side if mapping and mapping.side else default_side)
 
 
-def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str, ...]
+def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str, ...],
+                   single: frozenset[str] = frozenset()
                    ) -> tuple[list[HardpointRow], dict[str, tuple[str, str]]]:
     """The ``[HARDPOINT]`` rows of a suspension's hardpoints ``names`` (the corner's names on
     an axle: their other-side copies are written with them) in the ADAMS frame and, per
-    elastokin hardpoint, the (ADAMS name, side) it was written as. Two points on one ADAMS
-    hardpoint and side must be the same point (ConfigError otherwise)."""
+    elastokin hardpoint, the (ADAMS name, side) it was written as: ``single`` rows for the
+    points on the centre plane and for those named in ``single`` (on an axle, the points only
+    items kept once use: a Panhard rod's ends), unless the mapping gives their side. Two
+    points on one ADAMS hardpoint and side must be the same point (ConfigError otherwise)."""
     per: dict[str, dict[str, tuple[np.ndarray, list[str]]]] = {}
     written = {}
     for name in names:
@@ -184,10 +187,13 @@ def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str
         entries = [(name, side)]
         if s.axle is not None:
             twin = name + s.axle.suffix
-            if _on_centre_plane(s, name, twin) and not _side_given(mapping, name):
+            if (name in single or _on_centre_plane(s, name, twin)) and \
+                    not _side_given(mapping, name):
                 side = "single"  # a point of a part declared once (the rack, the bar centre)
             other = {"left": "right", "right": "left"}.get(side, side)
-            entries = [(name, side), (twin, other)]
+            # a point only items kept once use has no other-side copy in the axle
+            entries = [(name, side)] + ([] if name in single and side == "single"
+                                        else [(twin, other)])
         written[name] = (adams, side)
         for key, pside in entries:
             _add_point(per.setdefault(adams, {}), adams, pside, key,

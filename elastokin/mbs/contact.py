@@ -48,11 +48,15 @@ def arm_name(side: str) -> str:
     return f"wheel:contact_arm:{side}"
 
 
-def contact_arm(model, side: str) -> str:
+def contact_arm(model, side: str, item: tuple[str, str] | None = None) -> str:
     """The contact arm of the wheel on ``side`` (module docstring), added on first use; its tip
     is the wheel's contact point at the design position (``Wheel.contact_patch_mm``).
-    Returns its name, the part to attach supports at the contact point to."""
+    Returns its name, the part to attach supports at the contact point to. ``item``: the
+    reported load (:mod:`elastokin.mbs.loads`) its joint to the wheel part belongs to (what a
+    support on the arm applies to the wheel passes through it)."""
     name = arm_name(side)
+    if item is not None:
+        model.load_items[f"{name}:spin"] = item
     if name in model.rig_bodies:
         return name
     w = model.suspension.wheels[side]
@@ -77,9 +81,10 @@ def contact_arm(model, side: str) -> str:
     return name
 
 
-def add_contact_load(model, name: str, side: str) -> str:
+def add_contact_load(model, name: str, side: str, item: tuple[str, str] | None = None) -> str:
     """A force (N, config frame) at the contact point of the wheel on ``side`` following a
-    path given when solving (module docstring; inactive without one). Returns ``name``."""
+    path given when solving (module docstring; inactive without one); ``item``: the reported
+    load it belongs to (:mod:`elastokin.mbs.loads`). Returns ``name``."""
     w = model.suspension.wheels[side]
     m_ground = model.rigid_marker(model.suspension.ground, w.centre_mm, np.eye(3))
     # the wheel part's marker has its z along the spin axis: the connector's rotation
@@ -90,6 +95,8 @@ def add_contact_load(model, name: str, side: str) -> str:
         damping=np.zeros((6, 6)), activeConnector=False, name=name))
     model.loads[name] = {"object": obj, "part": w.part, "marker": m_wheel, "kind": "contact",
                          "side": side}
+    if item is not None:
+        model.load_items[name] = item
     exudyn_call(model.mbs.Assemble, f"{model.suspension.source}: attaching '{name}'")
     return name
 

@@ -26,6 +26,7 @@ from elastokin.report.chart_canvas import (
     STYLE,
     ChartCanvas,
     corner_counts,
+    floor_y_span,
     footer_text,
     legend_height,
     residual_rms,
@@ -342,6 +343,7 @@ def draw_axle_chart(canvas: ChartCanvas, data: AxleChartData, provenance: dict):
     curves = [_draw_panel(ax, panel) for ax, panel in zip(axes, data.panels)]
     for ax in axes:
         ax.set_xlabel(data.xlabel, fontsize=9)
+    floor_y_span(ax0)  # the panels share it
     _place_legends(axes, data, curves, 7 if pair else 8)
     ax0.set_ylabel(data.ylabel, fontsize=9)
     if pair:
@@ -368,8 +370,8 @@ def axle_chart_caption(spec: AxleChartSpec, with_test: bool, with_ideal: bool) -
         text += ", the least-squares slope of this curve"
     if spec.name == "roll_centre_height_vs_travel":
         text += ("; the curve is the kinematic roll centre (instant centres of both wheels in "
-                 "the front view), the force-based one (12x12 compliance) is a figure of the "
-                 "static state only")
+                 "the front view; on a solid axle, of the axle's roll motion), the force-based "
+                 "one (12x12 compliance) is a figure of the static state only")
     if spec.name == "roll_centre_height_vs_opposite_travel":
         text += ("; an axle joined by a flexible beam (a twist beam) moves in roll otherwise "
                  "than in bump, as the beam's elasticity sets it, so its kinematic roll centre "

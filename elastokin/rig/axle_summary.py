@@ -137,16 +137,19 @@ def _from_compliance(s: Suspension, C: np.ndarray | None) -> dict:
     if v is None:
         return out
     r = s.wheel.loaded_radius_mm
+    # a live axle (ADAMS/Car's dependent suspension): the pinion torque reacted by the housing
+    live = {} if v.live_axle_ratio is None else {"live_axle_ratio": v.live_axle_ratio,
+                                                 "track_mm": design_track_mm(s)}
     if v.position == "front":
         out["percent_anti_dive"] = _mean(axle_compliance.percent_anti_dive(
             Ci, v.wheelbase_mm, v.cg_height_mm, r, v.brake_fraction, v.brakes))
         out["percent_anti_lift_traction"] = _mean(axle_compliance.percent_anti_lift_traction(
-            Ci, v.wheelbase_mm, v.cg_height_mm, r, v.drive_fraction, v.drive))
+            Ci, v.wheelbase_mm, v.cg_height_mm, r, v.drive_fraction, v.drive, **live))
     else:
         out["percent_anti_lift_braking"] = _mean(axle_compliance.percent_anti_lift_braking(
             Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.brake_fraction, v.brakes))
         out["percent_anti_squat"] = _mean(axle_compliance.percent_anti_squat(
-            Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.drive_fraction, v.drive))
+            Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.drive_fraction, v.drive, **live))
     return out
 
 

@@ -42,10 +42,12 @@ class Channel:
         return QUANTITY.get(self.unit, "")
 
 
+STATIC = "from the static state (the model's own under the design wheel load)"
+CONTACT = "contact point (the wheel's lowest point)"
+
 CHANNEL_LIST = (
-    Channel("pad_z_mm", "mm", "prescribed vertical displacement of the contact point (the "
-            "wheel's lowest point) from the static state (rig input), + up",
-            "pad height [mm] (+ up)", adams="pad_vertical_displacement"),
+    Channel("pad_z_mm", "mm", f"prescribed vertical displacement of the {CONTACT} {STATIC} "
+            "(rig input), + up", "pad height [mm] (+ up)", adams="pad_vertical_displacement"),
     Channel("toe_deg", "deg", "toe angle, positive toe-in (ISO 8855 / SAE J670); 'steer' in "
             "the paper", "toe [deg] (+ toe-in)", test="toe", test_meaning="toe angle, toe-in +",
             adams="toe_angle", fitted=True),
@@ -53,18 +55,15 @@ CHANNEL_LIST = (
             "camber [deg] (+ top outboard)", test="camber",
             test_meaning="camber angle, top of the wheel outboard +", adams="camber_angle",
             fitted=True),
-    Channel("wheel_centre_longitudinal_mm", "mm", "wheel-centre displacement from the static "
-            "state (the model's own under the design wheel load), + forward",
-            "wheel-centre longitudinal displacement [mm] (+ forward)",
+    Channel("wheel_centre_longitudinal_mm", "mm", f"wheel-centre displacement {STATIC}, "
+            "+ forward", "wheel-centre longitudinal displacement [mm] (+ forward)",
             test="wheel_centre_longitudinal", test_meaning="wheel-centre displacement from "
             "the static state, forward +", adams="wheel_travel_base", fitted=True),
-    Channel("wheel_centre_lateral_mm", "mm", "wheel-centre displacement from the static "
-            "state (the model's own under the design wheel load), + to the vehicle's left",
+    Channel("wheel_centre_lateral_mm", "mm", f"wheel-centre displacement {STATIC}, + left",
             "wheel-centre lateral displacement [mm] (+ left)", test="wheel_centre_lateral",
             test_meaning="wheel-centre displacement from the static state, outboard +",
             test_sign="lateral", adams="wheel_travel_track", fitted=True),
-    Channel("wheel_travel_mm", "mm", "wheel-centre vertical displacement from the static "
-            "state (the model's own under the design wheel load), + bump",
+    Channel("wheel_travel_mm", "mm", f"wheel-centre vertical displacement {STATIC}, + bump",
             "wheel travel [mm] (+ bump)", test="wheel_travel",
             test_meaning="wheel-centre vertical displacement from the static state, bump +",
             adams="wheel_travel", fitted=True),
@@ -81,8 +80,7 @@ CHANNEL_LIST = (
             test_meaning="kingpin inclination, steering axis top inboard +",
             adams="kingpin_incl_angle"),
     Channel("scrub_radius_mm", "mm", "ground-plane offset of the steering axis from the "
-            "contact point (the wheel's lowest point) normal to the wheel/ground line, + axis "
-            "inboard",
+            f"{CONTACT} normal to the wheel/ground line, + axis inboard",
             "scrub radius [mm] (+ axis inboard)", test="scrub_radius",
             test_meaning="scrub radius, axis meets the ground inboard +", adams="scrub_radius"),
     Channel("caster_trail_mm", "mm", "ground-plane offset of the steering axis from the "
@@ -90,27 +88,23 @@ CHANNEL_LIST = (
             "caster trail [mm] (+ axis ahead)", test="caster_trail",
             test_meaning="caster trail, axis meets the ground ahead +",
             adams="caster_moment_arm"),
-    Channel("track_change_mm", "mm", "contact-point (the wheel's lowest point) lateral "
-            "displacement from the static state, + outboard (per wheel; the axle's track "
-            "changes by the sum of both)",
+    Channel("track_change_mm", "mm", f"lateral displacement of the {CONTACT} {STATIC}, + "
+            "outboard (per wheel; the axle's track changes by the sum of both)",
             "track change at the contact patch [mm] (+ outboard)", test="track_change",
             test_meaning="contact-point lateral displacement, outboard +", test_sign="",
             adams="half_track_change"),
-    Channel("wheelbase_change_mm", "mm", "contact-point (the wheel's lowest point) "
-            "longitudinal displacement from the static state, + when the wheelbase grows "
-            "(forward on a front axle, rearward on a rear one; forward without vehicle data)",
-            "wheelbase change [mm] (+ longer)",
+    Channel("wheelbase_change_mm", "mm", f"longitudinal displacement of the {CONTACT} "
+            f"{STATIC}, + when the wheelbase grows (forward on a front axle, rearward on a rear "
+            "one; forward without vehicle data)", "wheelbase change [mm] (+ longer)",
             test="wheelbase_change", test_meaning="wheelbase change, longer +",
             adams="wheelbase_change"),
     Channel("roll_angle_deg", "deg", "body roll relative to the line through the contact "
-            "points, atan((travel right - travel left) / track) (each wheel's travel from the "
-            "static state), + when the body's left side rises (axle)",
-            "roll angle [deg] (+ body's left side up)", test="roll_angle",
+            "points, atan((travel right - travel left) / track), + when the body's left side "
+            "rises (axle)", "roll angle [deg] (+ body's left side up)", test="roll_angle",
             test_meaning="body roll angle, left side up +", adams="roll_angle", per_axle=True),
     Channel("roll_moment_Nmm", "N*mm", "moment the body needs to hold its roll against the "
-            "contact-point vertical forces, -(y left Fz left + y right Fz right) at the "
-            "current contact points, + with a positive roll (axle)", "roll moment [N*mm]",
-            test="roll_moment",
+            "vertical forces at the contact points, -(y_l Fz_l + y_r Fz_r), + with a positive "
+            "roll (axle)", "roll moment [N*mm]", test="roll_moment",
             test_meaning="roll moment of the vertical forces, + with roll",
             adams="roll_moment", per_axle=True),
     Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + turning the wheels "
@@ -122,21 +116,19 @@ CHANNEL_LIST = (
             "(axle with steering)", "rack travel [mm]", test="rack_travel",
             test_meaning="rack travel from the centre along the rack's axis",
             adams="rack_travel", per_axle=True),
-    Channel("steer_angle_deg", "deg", "wheel steer angle, toe change from the static state "
-            "(the model's own straight-ahead toe under the design wheel load, not the "
-            "config's design toe) turned into the vehicle's sense: + turning the wheel to the "
-            "left (both wheels)",
-            "steer angle [deg] (+ left)", test="steer_angle",
-            test_meaning="steer angle, + to the left", adams="steer_angle"),
+    Channel("steer_angle_deg", "deg", f"wheel steer angle, toe change {STATIC}, not from the "
+            "config's design toe, in the vehicle's sense: + turning the wheel left (both)",
+            "steer angle [deg] (+ left)", test="steer_angle", adams="steer_angle",
+            test_meaning="steer angle, + to the left"),
     Channel("arb_twist_deg", "deg", "twist of the anti-roll bar, the other side's half "
             "relative to the config side's about the bar's axis (axle)",
             "anti-roll bar twist [deg]", adams="arb_twist", per_axle=True),
     Channel("arb_torque_Nmm", "N*mm", "torque in the anti-roll bar's torsion spring (axle)",
             "anti-roll bar torque [N*mm]", adams="arb_torque", per_axle=True),
     Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
-            "(the lines through each contact point, the wheel's lowest point, normal to its "
-            "front-view velocity; axle, parallel travel, or opposite wheel travel on an axle "
-            "joined by a flexible beam)", "roll centre height [mm]",
+            "(the lines through each contact point normal to its front-view velocity; axle, "
+            "parallel travel (a solid axle: of its roll motion at each step), or opposite "
+            "wheel travel on an axle joined by a flexible beam)", "roll centre height [mm]",
             adams="roll_center_location_vertical", per_axle=True),
     Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
             "the vehicle's left (axle, parallel travel, or opposite wheel travel on an axle "
@@ -189,6 +181,16 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
+#: loads.csv: force x y z (N), moment x y z (N*mm) in each frame (docs/characteristics.md)
+LOAD_COMPONENTS = ("fx", "fy", "fz", "mx", "my", "mz")
+LOAD_FRAMES = {"body": "the ground part's (config) frame", "local": "the element's own, fixed "
+               "to its first part: a bushing's (z axial), a joint's (z its axis; a ball joint: "
+               "the part's axes), the steering gear's (z along the rack); links, springs, "
+               "stops: z from its first part's point to the second's (fz > 0 in tension)"}
+LOAD_SIGN = ("force or moment the element applies to its first part (a connection's "
+             "parts[0]; a contact patch: the wheel's part) about its point on it")
+
+_LOAD = re.compile(r"(.+)_([fm])([xyz])_(body|local)_(N|Nmm)")
 _SPRING = re.compile(r"spring_(.+)_force_N")
 _STOP = re.compile(r"stop_(.+)_force_N")
 _BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
@@ -209,6 +211,11 @@ def channel(name: str) -> Channel | None:
         return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
                        "(bump) or together (rebound); 0 out of contact",
                        f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
+    m = _LOAD.fullmatch(name)
+    if m:
+        unit, what = ("N", "force") if m.group(2) == "f" else ("N*mm", "moment")
+        return Channel(name, unit, f"{LOAD_SIGN}; {m.group(4)}: {LOAD_FRAMES[m.group(4)]}",
+                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)")
     m = _BUSHING.fullmatch(name)
     if m:
         kind = "rot" if m.group(2) else "disp"
@@ -225,6 +232,12 @@ def bushing_columns(bushing: str) -> list[str]:
     units = ("mm", "mm", "mm", "deg", "deg", "deg")
     return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
                                                         units)]
+
+
+def load_column(item: str, component: str, frame: str) -> str:
+    """The loads.csv column of an element's load component (:data:`LOAD_COMPONENTS`) in a
+    frame (:data:`LOAD_FRAMES`), e.g. ``lca_bushing_fx_body_N``."""
+    return f"{item}_{component}_{frame}_{'N' if component[0] == 'f' else 'Nmm'}"
 
 
 def spring_column(spring: str) -> str:
@@ -294,8 +307,13 @@ LOAD_CASE_LIST = (
              "lateral force at the contact patch [N] (+ to the vehicle's left)",
              "lateral force at the contact patches in anti-phase", ("toe",), "patch", "left",
              corner=False),
+    LoadCase("vehicle_loads", "load_fraction", "load applied [-]",
+             "static loads from vehicle accelerations (one case each, vehicle_loads:<case>)",
+             ("toe",), corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
+#: the load case of one static-load case from vehicle accelerations (input load_fraction)
+VEHICLE_LOAD_CASE = "vehicle_loads:{}"
 #: the force-controlled load cases at the design wheel load
 FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 
@@ -385,8 +403,9 @@ def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Charac
 AXLE_CHARACTERISTIC_LIST = (
     _axle("roll_centre_height_mm", "roll centre height (kinematic)", "mm", ".1f",
           "where the lines from each contact point normal to its velocity in parallel travel "
-          "(in opposite wheel travel on an axle joined by a flexible beam: a twist beam) "
-          "meet (front view), above the contact points, at the static state"),
+          "(a solid axle: in its roll motion; in opposite wheel travel on an axle joined by a "
+          "flexible beam: a twist beam) meet (front view), above the contact points, at the "
+          "static state"),
     _axle("roll_centre_lateral_mm", "roll centre lateral (kinematic)", "mm", ".1f",
           "its lateral position, + to the vehicle's left"),
     _axle("roll_centre_height_force_based_mm", "roll centre height (force-based)", "mm",
@@ -421,9 +440,8 @@ AXLE_CHARACTERISTIC_LIST = (
     _axle("steering_ratio_centre", "steering ratio (on centre)", "deg/deg", ".2f",
           "local steering ratio at the steering wheel's centre"),
     _axle("percent_ackermann_lock", "percent Ackermann at the left lock", "%", ".1f",
-          "100 L (cot outer - cot inner) / track of the steer angles (toe changes from the "
-          "model's own straight-ahead static state), 0 % equal steer, 100 % the spindle "
-          "lines meeting on the rear axle"),
+          "100 L (cot outer - cot inner) / track of the steer angles (from the static state), "
+          "0 % equal steer, 100 % the spindle lines meeting on the rear axle"),
     _axle("ackermann_error_lock_deg", "Ackermann error at the left lock", "deg", ".2f",
           "outer wheel's steer less its Ackermann angle for the turn radius"),
     _axle("outside_turn_diameter_mm", "outside turn diameter (curb to curb)", "mm", ".0f",
@@ -476,5 +494,7 @@ def sign_conventions() -> dict[str, str]:
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
+    out["<element>_{fx,fy,fz,mx,my,mz}_{body,local}_{N,Nmm} (loads.csv)"] = (
+        f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out

@@ -46,6 +46,12 @@ def names(side: str) -> dict[str, str]:
             "centre": f"rig:wheel_centre:{side}"}
 
 
+def patch_item(side: str) -> tuple[str, str]:
+    """The reported load (:mod:`elastokin.mbs.loads`) of everything the rig applies to the
+    wheel on ``side`` (pad, patch and wheel-centre loads), reduced to the contact patch."""
+    return f"contact_patch_{side}", "contact_patch"
+
+
 @dataclass(frozen=True)
 class WheelInputs:
     """What the rig does to one wheel per step (config frame): the pad height (mm,
@@ -66,11 +72,13 @@ def attach_pads(model: SuspensionModel) -> None:
         n = names(side)
         if n["pad"] in model.supports:
             continue
-        model.add_support(n["pad"], contact_arm(model, side), w.contact_patch_mm, HOLD_Z)
-        add_contact_load(model, n["patch_force"], side)
-        model.add_load(n["centre_force"], w.part, w.centre_mm, "force")
+        item = patch_item(side)
+        model.add_support(n["pad"], contact_arm(model, side, item), w.contact_patch_mm, HOLD_Z,
+                          item=item)
+        add_contact_load(model, n["patch_force"], side, item)
+        model.add_load(n["centre_force"], w.part, w.centre_mm, "force", item=item)
         model.add_load(n["centre_torque"], w.part, w.centre_mm, "torque",
-                       marker_of=n["centre_force"])
+                       marker_of=n["centre_force"], item=item)
         model.add_point_sensor(n["centre"], w.part, w.centre_mm)
 
 
@@ -85,8 +93,8 @@ def attach_heave(model: SuspensionModel) -> None:
     model.add_rig_body(HEAVE, mid, HELD)
     model.add_load(HEAVE_LOAD, HEAVE, mid, "force")
     for side, w in s.wheels.items():
-        model.add_support(names(side)["roll_pad"], contact_arm(model, side), w.contact_patch_mm,
-                          HOLD_Z, base=HEAVE)
+        model.add_support(names(side)["roll_pad"], contact_arm(model, side, patch_item(side)),
+                          w.contact_patch_mm, HOLD_Z, base=HEAVE, item=patch_item(side))
 
 
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
@@ -213,4 +221,4 @@ def wheel_state(model: SuspensionModel, state: ModelState, side: str,
     return StepState(centre, spin, R, contact_point(centre, spin, w.loaded_radius_mm, s.up),
                      pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
                      poses if model.options.part_poses else None, derivatives,
-                     state.scalars)
+                     state.scalars, state.loads)
