@@ -109,6 +109,7 @@ def dependent_axle(suspension: Suspension) -> bool:
     if s.axle is None:
         return False
     held = {s.ground} | ({s.axle.steering.part} if s.axle.steering else set())
+    held |= {p for j in s.joints if j.kind == "rack" for p in j.parts}  # a rack held in travel
     pairs = [c.parts for c in (*s.joints, *s.links, *s.bushings)]
     left, right = (s.wheels[side].part for side in ("left", "right"))
     reached, grown = {left}, True
