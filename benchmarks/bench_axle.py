@@ -24,7 +24,8 @@ Each model's static state (the zero of every load case) is solved once, as ``ela
 does, and not timed. Prints the figures and writes them to
 ``benchmarks/results/bench_axle.json``, with the machine's load average before and after. No
 target: the measure the issues ask for. ``--quick``: parallel travel only
-(configs/rigs/travel_only.yaml), one run (bench_common). Through elastokin's public API only.
+(configs/rigs/travel_only.yaml), one run, the double wishbone, the Panhard solid axle and the
+twist beam (bench_common). Through elastokin's public API only.
 """
 
 from __future__ import annotations
@@ -48,8 +49,10 @@ CONFIGS = {name: ROOT / "configs" / f"{file}.yaml" for name, file in (
     ("multilink", "multilink_axle"), ("semi_trailing_arm", "semi_trailing_arm_axle"),
     ("solid_axle_panhard", "solid_axle_panhard"), ("solid_axle_watt", "solid_axle_watt"))}
 TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
-#: the rig of the quick mode (bench_common): parallel travel only, +-50 mm in 2 mm steps
+#: the quick mode (bench_common): parallel travel only, +-50 mm in 2 mm steps, on an
+#: independent axle and a solid one (the two ways compare goes) and the twist beam
 QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
+QUICK_CONFIGS = ("double_wishbone_axle", "solid_axle_panhard")
 
 
 def best_of(fn, repeat: int) -> float:
@@ -118,7 +121,8 @@ def main(argv: list[str] | None = None) -> None:
     load_before = os.getloadavg()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
-        figures = {name: compare(path, repeat, rig) for name, path in CONFIGS.items()}
+        chosen = QUICK_CONFIGS if args.quick else CONFIGS
+        figures = {name: compare(CONFIGS[name], repeat, rig) for name in chosen}
         beam = compare_beam(TWIST_BEAM, repeat, rig)
     result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
               "quick": args.quick,
