@@ -40,13 +40,21 @@ def progress_bar(stages: int, quiet: bool = False):
 
 
 @click.command()
-@click.option("--config", "config_path", required=True,
+@click.option("--config", "config_path", default=None,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Suspension config file (YAML, see README 'Config reference').")
+@click.option("--vehicle", "vehicle_path", default=None,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Instead of --config: a vehicle file (YAML, README 'The whole car') naming "
+                   "a front and a rear axle config: both axles on the rig with one set of "
+                   "vehicle data, and the car's figures (roll stiffness distribution, roll "
+                   "axis, understeer from compliance and roll steer, anti-dive and -squat).")
 @click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
-              default=None, show_default="results/<config name>",
-              help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
-                   "the run succeeds, untouched when it fails.")
+              default=None, show_default="results/<config or vehicle file name>",
+              help="Folder for kc.csv, summary.json and the charts (with --vehicle: the car's "
+                   "summary.json, car.csv, charts and report, each axle's results in front/ "
+                   "and rear/); replaced as a whole when the run succeeds, untouched when it "
+                   "fails.")
 @rig_option
 @click.option("--models", "models", default=None, metavar="NAMES",
               help="Comma-separated models to run (default: every model the config yields: "
@@ -59,17 +67,25 @@ def progress_bar(stages: int, quiet: bool = False):
 @click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
               "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
-def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
-       refit: bool, svg: bool, quiet: bool) -> None:
+def kc(config_path: Path | None, vehicle_path: Path | None, out_dir: Path | None,
+       rig_path: Path | None, models: str | None, refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
-    compare them with the config's K&C test data (kc_test).
+    compare them with the config's K&C test data (kc_test). With --vehicle instead of
+    --config: the whole car, both axles on the rig (README 'The whole car').
 
     Writes kc.csv (one row per model, load case, wheel side and step; units in column names),
     summary.json (characteristics, errors against the test, Table-3 style bushing
     deflections, provenance), the charts (PNG; --svg: also SVG) and a self-contained
     report.html.
     """
+    if (config_path is None) == (vehicle_path is None):
+        raise click.UsageError("give --config (one suspension) or --vehicle (the whole car)")
+    if vehicle_path is not None:
+        from elastokin.cli.vehicle import kc_vehicle
+
+        kc_vehicle(vehicle_path, out_dir, rig_path, models, refit, svg, quiet)
+        return
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
