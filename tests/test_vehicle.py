@@ -242,3 +242,35 @@ def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatc
     assert v.front.config_sha256 == hashlib.sha256(
         (tmp_path / "front.yaml").read_bytes()).hexdigest()  # the file's own bytes
     assert v.front.rig.roll_vertical_force.amplitude_deg == 1.0  # the table's roll
+
+
+@pytest.mark.slow
+def test_the_readme_whole_car_section_runs_and_shows_what_kc_prints(tmp_path, monkeypatch):
+    """The README's Python block runs the shipped car; the console excerpt above it is the
+    table `elastokin kc --vehicle` prints for that run (rebuilt from its summary.json, with
+    the command's default results folder)."""
+    import contextlib
+    import io
+    import re
+    from pathlib import Path
+
+    from elastokin.report.vehicle_text import vehicle_table
+
+    readme = (ROOT / "README.md").read_text()
+    start = readme.index("## The whole car")
+    text = readme[start:readme.index("\n## ", start + 10)]
+    blocks = dict((lang, body) for lang, body in re.findall(r"```(\w+)\n(.*?)```", text, re.S)
+                  if lang in ("console", "python"))
+    (tmp_path / "configs").symlink_to(ROOT / "configs")
+    monkeypatch.chdir(tmp_path)
+    with contextlib.redirect_stdout(io.StringIO()):
+        exec(compile(blocks["python"], "README, The whole car", "exec"), {})
+    summary = json.loads((tmp_path / "results" / "car" / "summary.json").read_text())
+    printed = [ln.rstrip() for ln in vehicle_table(
+        summary, Path("results/vehicle_hmmwv")).splitlines()]
+    command, _, shown = blocks["console"].partition("\n")
+    assert command == "$ elastokin kc --vehicle configs/vehicle_hmmwv.yaml"
+    expected = [ln.rstrip() for ln in shown.splitlines() if ln.strip() and ln != "..."]
+    assert expected and all(line in printed for line in expected), \
+        [line for line in expected if line not in printed]
+    assert summary["warnings"] == []  # the shipped pair agrees with the vehicle's data

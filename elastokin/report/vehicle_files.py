@@ -108,7 +108,7 @@ def write_vehicle_results(run: VehicleRun, folder: Path, svg: bool = False) -> d
 
     axles = {}
     for role in ROLES:
-        (folder / role).mkdir(exist_ok=True)  # its cache may be there
+        (folder / role).mkdir(parents=True, exist_ok=True)  # its cache may be there
         axles[role] = write_kc_results(run.axles[role], folder / role, svg)
     prov = vehicle_provenance(run)
     write_kc_csv(folder / "car.csv", list(run.roll.values()), prov, "car", CAR_CSV_HEADER)

@@ -125,13 +125,13 @@ def vehicle_table(summary: dict, out_dir: Path) -> str:
               f"{v['drive_fraction_front']:g}", "",
               "The car on the rig (every figure and its definition: summary.json, "
               "docs/characteristics.md 'Whole car')"]
-    w = 62
-    for label, m in summary["models"].items():
-        lines.append(f"model {label} (front axle {m['front_model']}, rear axle "
-                     f"{m['rear_model']})".ljust(w + 2) + f"{'front':>10}{'rear':>10}"
-                     f"{'car':>10}")
-        for row, cells in car_rows(m):
-            lines.append(f"  {row.label + ' ' + row.unit:<{w}}"
-                         + "".join(f"{c:>10}" for c in cells))
+    tables = {label: car_rows(m) for label, m in summary["models"].items()}
+    w = max(len(f"{row.label} {row.unit}") for rows in tables.values() for row, _ in rows)
+    for label, rows in tables.items():
+        m = summary["models"][label]
+        lines += ["", f"model {label} (front axle {m['front_model']}, rear axle "
+                  f"{m['rear_model']})", f"  {'':<{w}}{'front':>10}{'rear':>10}{'car':>10}"]
+        lines += [f"  {row.label + ' ' + row.unit:<{w}}" + "".join(f"{c:>10}" for c in cells)
+                  for row, cells in rows]
     lines += ["", f"Results in {out_dir}/: " + ", ".join(summary["files"])]
     return "\n".join(lines)
