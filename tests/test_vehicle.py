@@ -274,3 +274,10 @@ def test_the_readme_whole_car_section_runs_and_shows_what_kc_prints(tmp_path, mo
     assert expected and all(line in printed for line in expected), \
         [line for line in expected if line not in printed]
     assert summary["warnings"] == []  # the shipped pair agrees with the vehicle's data
+
+
+@pytest.mark.parametrize("args", [[], ["--config", "a.yaml", "--vehicle", "b.yaml"]])
+def test_kc_takes_a_config_or_a_vehicle(args):
+    result = CliRunner().invoke(main, ["kc", *args])
+    assert result.exit_code == 2
+    assert "give --config (one suspension) or --vehicle (the whole car)" in result.output

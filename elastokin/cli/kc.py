@@ -5,38 +5,23 @@ of a run are printed once each as ``elastokin: warning: ...`` lines."""
 
 from __future__ import annotations
 
-import contextlib
 import json
-import sys
 from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error, rig_option
+from elastokin.cli.common import (
+    FIT_RUNS_EXPECTED,
+    Output,
+    WarningLog,
+    check_writable,
+    fail,
+    kc_stages,
+    os_error,
+    progress_bar,
+    rig_option,
+)
 from elastokin.errors import ElastokinError
-
-#: model runs the progress bar expects of a stiffness fit (the case study takes 6)
-FIT_RUNS_EXPECTED = 7
-
-
-@contextlib.contextmanager
-def progress_bar(stages: int, quiet: bool = False):
-    """A progress bar on stderr (elapsed time and an estimate of what is left) as a
-    function ``progress(message)`` that shows the message and counts one stage; more stages
-    than expected (a fit taking more model runs) extend the bar. Shown only on a terminal
-    (not when stderr is piped or a file), never with ``quiet``."""
-    from tqdm import tqdm
-
-    with tqdm(total=max(stages, 1), disable=True if quiet else None, file=sys.stderr,
-              leave=False,
-              bar_format="{desc:<56} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]"
-              ) as bar:
-        def progress(msg: str) -> None:
-            if bar.n + 1 >= bar.total:
-                bar.total = bar.n + 2
-            bar.set_description_str(msg)
-            bar.update(1)
-        yield progress
 
 
 @click.command()
@@ -90,7 +75,7 @@ def kc(config_path: Path | None, vehicle_path: Path | None, out_dir: Path | None
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
     from elastokin.studies.cache import ResultCache
-    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc, select_models
+    from elastokin.studies.kc_job import run_kc, select_models
 
     out_dir = out_dir or Path("results") / config_path.stem
     output = Output(out_dir)
@@ -99,11 +84,7 @@ def kc(config_path: Path | None, vehicle_path: Path | None, out_dir: Path | None
             output.check()  # before any computation
             suspension = load_suspension_with_rig(config_path, rig_path)
             chosen = select_models(suspension, models)
-            labels = [m for m in model_labels(suspension) if m in chosen]
-            fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
-            stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                      + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * fit)
-            with output as tmp, progress_bar(stages, quiet) as progress:
+            with output as tmp, progress_bar(kc_stages(suspension, chosen), quiet) as progress:
                 cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
                 # every model run of the fit advances the bar too
                 run = run_kc(suspension, progress, progress, chosen, cache)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, fail, os_error
+from elastokin.cli.common import Output, WarningLog, fail, kc_stages, os_error, progress_bar
 from elastokin.errors import ElastokinError
 
 
@@ -18,12 +18,11 @@ def kc_vehicle(vehicle_path: Path, out_dir: Path | None, rig_path: Path | None,
                models: str | None, refit: bool, svg: bool, quiet: bool) -> None:
     """Run both axles of the vehicle file and write the car's results (README 'The whole
     car')."""
-    from elastokin.cli.kc import FIT_RUNS_EXPECTED, progress_bar
     from elastokin.config.vehicle import ROLES, load_vehicle
     from elastokin.report.vehicle_files import write_vehicle_results
     from elastokin.report.vehicle_text import vehicle_table
     from elastokin.studies.cache import ResultCache
-    from elastokin.studies.kc_job import fits_stiffness, model_labels, select_models
+    from elastokin.studies.kc_job import select_models
     from elastokin.studies.vehicle_job import run_vehicle
 
     out_dir = out_dir or Path("results") / vehicle_path.stem
@@ -32,14 +31,9 @@ def kc_vehicle(vehicle_path: Path, out_dir: Path | None, rig_path: Path | None,
         try:
             output.check()  # before any computation
             vehicle = load_vehicle(vehicle_path, rig_path)
-            stages = 2
-            for role in ROLES:
-                s = vehicle.axle(role)
-                chosen = select_models(s, models)
-                fit = fits_stiffness(s) and "identified_stiffness" in chosen
-                stages += (3 + 2 * len([m for m in model_labels(s) if m in chosen])
-                           + (s.measurements is not None) + (s.motion is not None)
-                           + (2 + FIT_RUNS_EXPECTED) * fit)
+            stages = 2 + sum(kc_stages(vehicle.axle(role), select_models(vehicle.axle(role),
+                                                                       models))
+                             for role in ROLES)
             with output as tmp, progress_bar(stages, quiet) as progress:
                 caches = {role: ResultCache(out_dir / role / ".cache", tmp / role / ".cache",
                                             enabled=not refit) for role in ROLES}

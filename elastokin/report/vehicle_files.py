@@ -78,9 +78,10 @@ def vehicle_summary_dict(run: VehicleRun, files: list[str]) -> dict:
     for role in ROLES:
         inputs += [{**f, "role": f"{role} axle: {f['role']}"}
                    for f in input_files(run.axles[role])]
-    warnings = list(run.warnings)
-    for role in ROLES:
-        warnings += [f"{role} axle: {w}" for w in run.axles[role].warnings]
+    warnings = list(run.warnings)  # the car's, and every Python warning of the run
+    for role in ROLES:  # an axle's own notes (e.g. on its test data) that were no warning
+        warnings += [f"{role} axle: {w}" for w in run.axles[role].warnings
+                     if w not in run.warnings]
     return {**vehicle_provenance(run), "vehicle_name": v.name,
             "vehicle": {**v.data.as_dict(), "body_roll": v.body_roll.model_dump()},
             "axles": {role: axle_entry(run, role) for role in ROLES},
