@@ -177,7 +177,7 @@ def test_the_car_results_folder(car_run):
     assert set(summary["solver"]) == {"front", "rear"}
     assert "roll stiffness distribution" in (out / "report.html").read_text()
     # the axles' own files said 0.5 for the brake split: one warning each, both files named
-    said = [w for w in summary["warnings"] if "brake_fraction" in w]
+    said = [w for w in summary["warnings"] if "'axle.vehicle.brake_fraction'" in w]
     assert len(said) == 2 and all("car.yaml" in w for w in said)
 
 
@@ -198,7 +198,10 @@ def _write(folder, data) -> str:
     ({"axle_mass_kg": None}, "give the masses"),
     ({"axle_mass_kg": None, "mass_kg": 2745.0, "front_mass_fraction": 39.0},
      "39 - a percentage? give 0.39"),
-    ({"axle_mass_kg": {"front": 250000.0, "rear": 1667.0}}, "in N? 25493 kg"),
+    ({"axle_mass_kg": {"front": 250000.0, "rear": 1667.0}},
+     "key 'axle_mass_kg.front': 250000 - in N?"),
+    ({"axle_mass_kg": {"front": 3000.0, "rear": 1667.0}},
+     "the front axle's mass 3000 kg is 2.78 times what its design wheel loads carry"),
     ({"rear": {"config": "../outside.yaml"}}, "key 'rear.config': axle config "
                                               "'../outside.yaml' leads to"),
     ({"front": {"config": "missing.yaml"}}, "key 'front.config': axle config 'missing.yaml'"),
@@ -222,9 +225,9 @@ def test_a_corner_is_not_an_axle(tmp_path, monkeypatch):
 
 
 def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatch):
-    """An axle's own CG height, and design loads that do not carry the vehicle's masses:
-    one warning each, naming the axle config's key and the vehicle file; the vehicle's data
-    are used."""
+    """An axle's own CG height and axle masses, and design loads that do not carry the
+    vehicle's masses: one warning each, naming the axle config's key and the vehicle file;
+    the vehicle's data are used."""
     monkeypatch.chdir(tmp_path)
     path = _write(tmp_path, vehicle_file(tmp_path, cg_height_mm=700.0, brake_fraction_front=0.5,
                                          axle_mass_kg={"front": 1200.0,
@@ -233,12 +236,18 @@ def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatc
         warnings.simplefilter("always")
         v = load_vehicle(path)
     said = [str(w.message) for w in caught if w.category is VehicleDataWarning]
-    assert said == list(v.warnings) and len(said) == 3
+    assert said == list(v.warnings)
     assert sum("'axle.vehicle.cg_height_mm' is 883.2" in w for w in said) == 2
+    # the double wishbone's own axle_mass_kg (the HMMWV's: 1077.8 and 1008.7 kg)
+    assert any("front.yaml: key 'axle.vehicle.axle_mass_kg.front' is 1077.8" in w
+               and "axle_mass_kg.front 1200" in w for w in said)
+    assert any("'axle.vehicle.axle_mass_kg.rear' is 1008.7" in w for w in said)
     (load,) = [w for w in said if "design.wheel_load_N" in w]
     assert "front.yaml" in load and "-10.1 %" in load and "1200.0 kg" in load
+    assert len(said) == 5 and all("car.yaml" in w for w in said)
     assert v.front.axle.vehicle.cg_height_mm == v.rear.axle.vehicle.cg_height_mm == 700.0
     assert v.rear.axle.vehicle.position == "rear"
+    assert v.rear.axle.vehicle.axle_mass_kg.front == 1200.0  # the static-load cases' too
     assert v.front.config_sha256 == hashlib.sha256(
         (tmp_path / "front.yaml").read_bytes()).hexdigest()  # the file's own bytes
     assert v.front.rig.roll_vertical_force.amplitude_deg == 1.0  # the table's roll
@@ -263,17 +272,21 @@ def test_the_readme_whole_car_section_runs_and_shows_what_kc_prints(tmp_path, mo
                   if lang in ("console", "python"))
     (tmp_path / "configs").symlink_to(ROOT / "configs")
     monkeypatch.chdir(tmp_path)
-    with contextlib.redirect_stdout(io.StringIO()):
+    with contextlib.redirect_stdout(io.StringIO()), pytest.warns(VehicleDataWarning):
         exec(compile(blocks["python"], "README, The whole car", "exec"), {})
     summary = json.loads((tmp_path / "results" / "car" / "summary.json").read_text())
     printed = [ln.rstrip() for ln in vehicle_table(
         summary, Path("results/vehicle_hmmwv")).splitlines()]
     command, _, shown = blocks["console"].partition("\n")
     assert command == "$ elastokin kc --vehicle configs/vehicle_hmmwv.yaml"
-    expected = [ln.rstrip() for ln in shown.splitlines() if ln.strip() and ln != "..."]
+    warned = "elastokin: warning: "
+    expected = [ln.rstrip() for ln in shown.splitlines() if ln.strip() and ln != "..."
+                and not ln.startswith(warned)]
     assert expected and all(line in printed for line in expected), \
         [line for line in expected if line not in printed]
-    assert summary["warnings"] == []  # the shipped pair agrees with the vehicle's data
+    # the one warning: the front config's own rear axle mass (the HMMWV's)
+    assert [ln[len(warned):] for ln in shown.splitlines() if ln.startswith(warned)] == \
+        summary["warnings"] and "axle_mass_kg.rear' is 1008.7" in summary["warnings"][0]
 
 
 @pytest.mark.parametrize("args", [[], ["--config", "a.yaml", "--vehicle", "b.yaml"]])

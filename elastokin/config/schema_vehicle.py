@@ -13,24 +13,12 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config.plausibility import fraction, plausible
+from elastokin.config.schema_axle import AxleMassesSpec
 from elastokin.config.schema_base import StrictModel
 from elastokin.config.schema_rig import RollSpec
 
-#: plausible mass of a whole vehicle (kg): a go-kart to a heavy truck (README "Limits")
-VEHICLE_MASS_RANGE_KG = (50.0, 60_000.0)
 #: the standard acceleration of gravity (m/s^2): axle weights from masses, N per g
 STANDARD_GRAVITY = 9.80665
-
-
-def mass_problem(value: float, low: float, high: float) -> str | None:
-    """Why ``value`` (kg) is not a plausible mass between ``low`` and ``high``, the unit slip
-    that would explain it named (N, tonnes), or None."""
-    if low <= value <= high:
-        return None
-    hint = (f" - in N? {value / STANDARD_GRAVITY:.0f} kg"
-            if low <= value / STANDARD_GRAVITY <= high else
-            " - in tonnes? give kg" if low <= value * 1000.0 <= high else "")
-    return f"{value:g}{hint} (expected {low:,g} ... {high:,g} kg, README 'Limits')"
 
 
 class VehicleUnits(StrictModel):
@@ -42,27 +30,10 @@ class VehicleUnits(StrictModel):
 
 class AxleEntry(StrictModel):
     """One axle of the car: its config (an axle: a config with an ``axle`` section), the path
-    relative to the vehicle file's folder, confined to it and the working folder (README
-    "Which paths may point anywhere")."""
+    relative to the vehicle file's folder, confined to it and the folders typed with ``--data``
+    (README "Which paths may point anywhere")."""
 
     config: str = Field(min_length=1)
-
-
-class AxleMasses(StrictModel):
-    """The masses the front and the rear axle carry at rest (kg): what the scales under each
-    axle's wheels read, the unsprung masses included."""
-
-    front: float
-    rear: float
-
-    @field_validator("front", "rear")
-    @classmethod
-    def _plausible(cls, v: float) -> float:
-        low, high = VEHICLE_MASS_RANGE_KG
-        problem = mass_problem(v, low / 4.0, high / 2.0)
-        if problem:
-            raise ValueError(problem)
-        return v
 
 
 class VehicleFile(StrictModel):
@@ -76,16 +47,19 @@ class VehicleFile(StrictModel):
     wheelbase_mm: float
     cg_height_mm: float
     #: the masses per axle, or the whole mass and the front axle's share of it
-    axle_mass_kg: AxleMasses | None = None
+    axle_mass_kg: AxleMassesSpec | None = None
     mass_kg: float | None = None
     front_mass_fraction: float | None = None
     #: the front axle's share of the braking force and of the drive force, 0 ... 1
     brake_fraction_front: float
     drive_fraction_front: float
+    #: the front axle's share of the lateral load transfer in the axles' static-load cases
+    #: (``vehicle_loads``), 0 ... 1; None: each axle's own (else its share of the mass)
+    lateral_transfer_fraction_front: float | None = None
     #: the body roll the rig's table applies to both axles (each at its axle load)
     body_roll: RollSpec = RollSpec()
 
-    _plausible = field_validator("wheelbase_mm", "cg_height_mm")(plausible)
+    _plausible = field_validator("wheelbase_mm", "cg_height_mm", "mass_kg")(plausible)
     _fractions = field_validator("brake_fraction_front", "drive_fraction_front")(fraction)
 
     @field_validator("front_mass_fraction")
@@ -95,13 +69,10 @@ class VehicleFile(StrictModel):
             raise ValueError(f"{v:g}: each axle carries some of the mass (0 < fraction < 1)")
         return v
 
-    @field_validator("mass_kg")
+    @field_validator("lateral_transfer_fraction_front")
     @classmethod
-    def _plausible_mass(cls, v: float | None) -> float | None:
-        problem = None if v is None else mass_problem(v, *VEHICLE_MASS_RANGE_KG)
-        if problem:
-            raise ValueError(problem)
-        return v
+    def _transfer(cls, v: float | None) -> float | None:
+        return None if v is None else fraction(v)
 
     @model_validator(mode="after")
     def _one_mass(self) -> VehicleFile:

@@ -22,7 +22,8 @@ from pathlib import Path
 import yaml
 from pydantic import ValidationError
 
-from elastokin.config.confined import Roots, confined_path
+from elastokin.config.axle import AXLE_MASS_TOLERANCE
+from elastokin.config.confined import Roots, confined_path, typed_folders
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import (
     format_validation_error,
@@ -47,10 +48,10 @@ class VehicleDataWarning(UserWarning):
 
 
 @dataclass(frozen=True)
-class VehicleData:
+class CarData:
     """The car's one set of vehicle data: wheelbase and CG height (mm, the CG above the
-    ground), the masses the axles carry (kg), the front axle's share of braking and of
-    drive (0 ... 1)."""
+    ground), the masses the axles carry (kg), the front axle's share of braking, of drive and
+    (None: each axle's own) of the lateral load transfer in the static-load cases (0 ... 1)."""
 
     wheelbase_mm: float
     cg_height_mm: float
@@ -58,6 +59,7 @@ class VehicleData:
     mass_rear_kg: float
     brake_fraction_front: float
     drive_fraction_front: float
+    lateral_transfer_fraction_front: float | None = None
 
     @property
     def mass_kg(self) -> float:
@@ -81,13 +83,17 @@ class VehicleData:
     def axle_vehicle(self, role: str) -> dict:
         """The ``axle.vehicle`` keys the vehicle gives the ``role`` axle (its fractions are
         that axle's shares)."""
-        front = role == "front"
-        return {"position": role, "wheelbase_mm": self.wheelbase_mm,
-                "cg_height_mm": self.cg_height_mm,
-                "brake_fraction": self.brake_fraction_front if front
-                else 1.0 - self.brake_fraction_front,
-                "drive_fraction": self.drive_fraction_front if front
-                else 1.0 - self.drive_fraction_front}
+        def share(front: float) -> float:
+            return front if role == "front" else 1.0 - front
+
+        out = {"position": role, "wheelbase_mm": self.wheelbase_mm,
+               "cg_height_mm": self.cg_height_mm,
+               "brake_fraction": share(self.brake_fraction_front),
+               "drive_fraction": share(self.drive_fraction_front),
+               "axle_mass_kg": {"front": self.mass_front_kg, "rear": self.mass_rear_kg}}
+        if self.lateral_transfer_fraction_front is not None:
+            out["lateral_transfer_fraction"] = share(self.lateral_transfer_fraction_front)
+        return out
 
     def as_dict(self) -> dict:
         """summary.json ``vehicle``: the data and what follows from them."""
@@ -97,6 +103,7 @@ class VehicleData:
                 "cg_behind_front_axle_mm": self.cg_behind_front_axle_mm,
                 "brake_fraction_front": self.brake_fraction_front,
                 "drive_fraction_front": self.drive_fraction_front,
+                "lateral_transfer_fraction_front": self.lateral_transfer_fraction_front,
                 "standard_gravity_m_per_s2": STANDARD_GRAVITY}
 
 
@@ -110,7 +117,7 @@ class Vehicle:
     name: str
     source: str
     sha256: str
-    data: VehicleData
+    data: CarData
     body_roll: RollSpec
     front: Suspension
     rear: Suspension
@@ -133,11 +140,12 @@ def load_vehicle(path: str | Path, rig_path: str | Path | None = None) -> Vehicl
     except ValidationError as err:
         raise ConfigError(format_validation_error(str(path), err, raw, VehicleFile)) from None
     front_kg, rear_kg = spec.masses_kg()
-    data = VehicleData(spec.wheelbase_mm, spec.cg_height_mm, front_kg, rear_kg,
+    data = CarData(spec.wheelbase_mm, spec.cg_height_mm, front_kg, rear_kg,
                        spec.brake_fraction_front, spec.drive_fraction_front)
     rig = None if rig_path is None else (str(rig_path), *read_rig(rig_path))
-    roots = Roots.of((path.parent, Path.cwd()), "the vehicle file's folder and the working "
-                                                "folder")
+    typed = typed_folders()
+    roots = Roots.of((path.parent, *typed), "the vehicle file's folder"
+                     + (" and the folders given" if typed else ""))
     axles, notes = {}, []
     for role in ROLES:
         axles[role], found = _axle(role, getattr(spec, role).config, path, roots, data,
@@ -151,12 +159,14 @@ def load_vehicle(path: str | Path, rig_path: str | Path | None = None) -> Vehicl
                    None if rig is None else hashlib.sha256(rig[2]).hexdigest())
 
 
-def _axle(role: str, named: str, vehicle_path: Path, roots: Roots, data: VehicleData,
+def _axle(role: str, named: str, vehicle_path: Path, roots: Roots, data: CarData,
           roll: RollSpec, rig: tuple[str, dict, bytes] | None
           ) -> tuple[Suspension, list[str]]:
     """The ``role`` axle's config as the car runs it, and its contradictions."""
     where = f"{vehicle_path}: key '{role}.config'"
-    path = confined_path(named, vehicle_path.parent, roots, where, "axle config")
+    path = confined_path(named, vehicle_path.parent, roots, where, "axle config",
+                         remedy="copy it beside the vehicle file, or give its folder with "
+                                "--data FOLDER if you trust the vehicle file")
     if not path.is_file():
         raise ConfigError(f"{where}: axle config {named!r} ({path}) "
                           + ("is not a file" if path.exists() else "does not exist"))
@@ -165,6 +175,7 @@ def _axle(role: str, named: str, vehicle_path: Path, roots: Roots, data: Vehicle
     if own.axle is None:
         raise ConfigError(f"{where}: {path} describes one corner (no 'axle' section); a "
                           "vehicle's axles are axle configs (README 'The axle section')")
+    check_axle_load(own, role, data, vehicle_path)
     applied = {**plain_data(raw["axle"].get("vehicle") or {}), **data.axle_vehicle(role)}
     rig_data = dict(rig[1]) if rig is not None else dict(raw.get("rig") or {})
     rig_data["roll_vertical_force"] = roll.model_dump()
@@ -179,32 +190,65 @@ def _axle(role: str, named: str, vehicle_path: Path, roots: Roots, data: Vehicle
     return s, contradictions(own, role, data, vehicle_path)
 
 
-def contradictions(own: Suspension, role: str, data: VehicleData, vehicle_path: Path
+def check_axle_load(own: Suspension, role: str, data: CarData, vehicle_path: Path) -> None:
+    """The vehicle's mass on the ``role`` axle carries its design wheel loads within a factor
+    :data:`~elastokin.config.axle.AXLE_MASS_TOLERANCE` (as an axle's own ``axle_mass_kg``
+    must): beyond it, a slip (a total mass, the other axle's, a load in N), an error naming
+    the vehicle file's key."""
+    ratio = data.weight_N(role) / (2.0 * own.design.wheel_load_N)
+    if not 1.0 / AXLE_MASS_TOLERANCE <= ratio <= AXLE_MASS_TOLERANCE:
+        mass = getattr(data, f"mass_{role}_kg")
+        raise ConfigError(
+            f"{vehicle_path}: the {role} axle's mass {mass:g} kg is {ratio:.2f} times what its "
+            f"design wheel loads carry ({own.source}: design.wheel_load_N "
+            f"{own.design.wheel_load_N:g} N, "
+            f"{2.0 * own.design.wheel_load_N / STANDARD_GRAVITY:.0f} kg on the axle): "
+            "expected the mass this axle carries (axle_mass_kg, or mass_kg and "
+            "front_mass_fraction)")
+
+
+#: the vehicle file's key behind each ``axle.vehicle`` key it sets
+VEHICLE_KEYS = {"wheelbase_mm": "wheelbase_mm", "cg_height_mm": "cg_height_mm",
+                "brake_fraction": "brake_fraction_front",
+                "drive_fraction": "drive_fraction_front",
+                "lateral_transfer_fraction": "lateral_transfer_fraction_front",
+                "axle_mass_kg.front": "axle_mass_kg.front",
+                "axle_mass_kg.rear": "axle_mass_kg.rear"}
+
+
+def _typed(vehicle) -> dict:
+    """The keys an ``axle.vehicle`` section types, ``axle_mass_kg`` as its two entries."""
+    out = {k: getattr(vehicle, k) for k in vehicle.model_fields_set}
+    masses = out.pop("axle_mass_kg", None)
+    if masses is not None:
+        out.update({"axle_mass_kg.front": masses.front, "axle_mass_kg.rear": masses.rear})
+    return out
+
+
+def contradictions(own: Suspension, role: str, data: CarData, vehicle_path: Path
                    ) -> list[str]:
     """Where the axle config ``own`` (as its file says) contradicts the vehicle's data for
     the ``role`` axle: a key of its ``axle.vehicle`` it types with another value, and a
     design wheel load that does not carry the vehicle's weight on the axle (within
     :data:`LOAD_TOLERANCE`)."""
     out = []
-    given = own.axle.vehicle
-    vehicle_keys = {"position": "front/rear", "wheelbase_mm": "wheelbase_mm",
-                    "cg_height_mm": "cg_height_mm", "brake_fraction": "brake_fraction_front",
-                    "drive_fraction": "drive_fraction_front"}
+    given = {} if own.axle.vehicle is None else _typed(own.axle.vehicle)
     wanted = data.axle_vehicle(role)
-    for key in vehicle_keys if given is not None else ():
-        if key not in given.model_fields_set:
+    wanted.update({f"axle_mass_kg.{r}": m for r, m in wanted.pop("axle_mass_kg").items()})
+    if given.get("position", role) != role:
+        out.append(f"{own.source}: key 'axle.vehicle.position' is {given['position']}, the "
+                   f"vehicle file {vehicle_path} has it as its {role} axle: the vehicle "
+                   "file's is used")
+    for key, vkey in VEHICLE_KEYS.items():
+        mine, theirs = given.get(key), wanted.get(key)
+        if mine is None or theirs is None or math.isclose(mine, theirs, rel_tol=1e-9,
+                                                          abs_tol=1e-12):
             continue
-        mine, theirs = getattr(given, key), wanted[key]
-        if key == "position" and mine == theirs:
-            continue
-        if key != "position" and math.isclose(mine, theirs, rel_tol=1e-9, abs_tol=1e-12):
-            continue
-        share = f" (the rear axle's share {theirs:g})" if role == "rear" and key in (
-            "brake_fraction", "drive_fraction") else ""
-        vkey = f"the {role} axle" if key == "position" else \
-            f"{vehicle_keys[key]} {getattr(data, vehicle_keys[key]):g}{share}"
-        out.append(f"{own.source}: key 'axle.vehicle.{key}' is {mine}, the vehicle file "
-                   f"{vehicle_path} says {vkey}: the vehicle file's is used")
+        front_share = vkey.endswith("_front")
+        said = getattr(data, vkey) if front_share else theirs
+        share = f", the rear axle's share {theirs:g}" if role == "rear" and front_share else ""
+        out.append(f"{own.source}: key 'axle.vehicle.{key}' is {mine:g}, the vehicle file "
+                   f"{vehicle_path} says {vkey} {said:g}{share}: the vehicle file's is used")
     axle_load = 2.0 * own.design.wheel_load_N
     weight = data.weight_N(role)
     if abs(axle_load - weight) > LOAD_TOLERANCE * weight:

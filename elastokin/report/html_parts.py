@@ -31,6 +31,9 @@ align-items:center;justify-content:center;cursor:zoom-out;z-index:10}
 #lightbox img{max-width:98vw;max-height:96vh;height:96vh;width:auto;object-fit:contain;
 background:#fff}
 code{font-size:92%}
+h4{margin:1em 0 0.3em 0}.wide{overflow-x:auto}
+.worst{font-weight:bold;background:#ffd9a0;padding:0 3px}
+details{margin:0.5em 0}
 """
 
 #: click a chart to see it as large as the window; click or Escape to close

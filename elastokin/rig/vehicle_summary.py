@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elastokin.config.vehicle import ROLES, Vehicle, VehicleData
+from elastokin.config.vehicle import ROLES, CarData, Vehicle
 from elastokin.errors import ModelError
 from elastokin.physics import vehicle as car
 from elastokin.physics.wheel import slope
@@ -61,7 +61,7 @@ def _value(v) -> float:
     return float("nan") if v is None else float(v)
 
 
-def car_figures(front: dict, rear: dict, data: VehicleData, roll: Sweep | None = None
+def car_figures(front: dict, rear: dict, data: CarData, roll: Sweep | None = None
                 ) -> dict[str, dict]:
     """The car's figures (``car``) and each axle's with its understeer terms (``front``,
     ``rear``), from the axles' figures (:func:`axle_in_car`), the vehicle's data and the
