@@ -129,6 +129,14 @@ class Vehicle:
         return self.front if role == "front" else self.rear
 
 
+def is_vehicle_file(path: str | Path) -> bool:
+    """Whether the YAML file ``path`` is a vehicle file (names a front and a rear axle, has
+    no hardpoints) rather than a suspension config: for tools that take every file of a
+    folder of configs."""
+    data = read_yaml(path)[0]
+    return {"front", "rear"} <= set(data) and "hardpoints" not in data
+
+
 def load_vehicle(path: str | Path, rig_path: str | Path | None = None) -> Vehicle:
     """Load and validate a vehicle file and its two axle configs (module docstring);
     ``rig_path``: a rig file whose load cases both axles run instead of their own ``rig``
