@@ -17,7 +17,7 @@ from elastokin.rig.channels import display_label
 from elastokin.rig.sweeps import Sweep
 from elastokin.rig.vehicle_channels import CAR_CHANNELS
 
-#: a car model's line style (by its order in the run): the compliant model first
+#: a car model's line style (by its order in the run, cycled): the compliant model first
 MODEL_STYLES = ("-", ":", "--", "-.")
 ROLE_COLOURS = {"front": "tab:blue", "rear": "tab:orange", "car": "black"}
 #: the car's charts: file stem -> (title, caption)
@@ -67,46 +67,42 @@ def _num(v, fmt: str, factor: float = 1.0) -> str:
     return "-" if v is None else format(v * factor, fmt)
 
 
-def _roll_moment(ax, summary: dict, sweeps: list[Sweep]) -> list:
-    curves = []
+def _against_roll(ax, summary: dict, sweeps: list[Sweep], curves_of, ylabel: str) -> list:
+    """Every car model's curves against the table's body roll: ``curves_of(sweep, figures)``
+    gives (role, y, legend) per curve; one line style per model, one colour per role."""
+    drawn = []
     for k, sw in enumerate(sweeps):
-        m = summary["models"][sw.model]
-        style = MODEL_STYLES[k % len(MODEL_STYLES)]
         x = sw.columns["body_roll_deg"]
-        for role in ("front", "rear", "car"):
-            column = "roll_moment_total_Nmm" if role == "car" else f"roll_moment_{role}_Nmm"
-            y = sw.columns[column] * 1e-3
-            if role == "car":
-                stiffness = _num(m["car"]["roll_stiffness_table_Nmm_per_deg"], ".0f", 1e-3)
-                text = f"{sw.model}: total, {stiffness} N*m/deg on the table"
-            else:
-                stiffness = _num(m[role]["roll_stiffness_Nmm_per_deg"], ".0f", 1e-3)
-                share = _num(m["car"][f"roll_stiffness_{role}_percent"], ".1f")
-                text = f"{sw.model}: {role}, {stiffness} N*m/deg ({share} %)"
+        style = MODEL_STYLES[k % len(MODEL_STYLES)]
+        for role, y, text in curves_of(sw, summary["models"][sw.model]):
             ax.plot(x, y, color=ROLE_COLOURS[role], linestyle=style, label=text)
-            curves.append((x, y))
+            drawn.append((x, y))
     ax.set_xlabel(_label("body_roll_deg"), fontsize=9)
-    ax.set_ylabel(_label("roll_moment_total_Nmm"), fontsize=9)
-    return curves
+    ax.set_ylabel(ylabel, fontsize=9)
+    return drawn
 
 
-def _axle_steer(ax, summary: dict, sweeps: list[Sweep]) -> list:
-    curves = []
-    for k, sw in enumerate(sweeps):
-        m = summary["models"][sw.model]
-        style = MODEL_STYLES[k % len(MODEL_STYLES)]
-        x = sw.columns["body_roll_deg"]
-        for role in ("front", "rear"):
-            y = sw.columns[f"steer_{role}_deg"]
-            text = (f"{sw.model}: {role}, roll steer "
-                    f"{_num(m[role]['axle_roll_steer_deg_per_deg'], '+.4f')} deg/deg, "
-                    f"understeer {_num(m[role]['understeer_roll_steer_deg_per_g'], '+.3f')} "
-                    "deg/g")
-            ax.plot(x, y, color=ROLE_COLOURS[role], linestyle=style, label=text)
-            curves.append((x, y))
-    ax.set_xlabel(_label("body_roll_deg"), fontsize=9)
-    ax.set_ylabel("axle steer angle [deg] (+ left)", fontsize=9)
-    return curves
+def _moments(sw: Sweep, m: dict) -> list:
+    """The roll moments (N*m) of the front and rear axles and the table's total."""
+    out = []
+    for role in ("front", "rear"):
+        stiffness = _num(m[role]["roll_stiffness_Nmm_per_deg"], ".0f", 1e-3)
+        share = _num(m["car"][f"roll_stiffness_{role}_percent"], ".1f")
+        out.append((role, sw.columns[f"roll_moment_{role}_Nmm"] * 1e-3,
+                    f"{sw.model}: {role}, {stiffness} N*m/deg ({share} %)"))
+    stiffness = _num(m["car"]["roll_stiffness_table_Nmm_per_deg"], ".0f", 1e-3)
+    out.append(("car", sw.columns["roll_moment_total_Nmm"] * 1e-3,
+                f"{sw.model}: total, {stiffness} N*m/deg on the table"))
+    return out
+
+
+def _steers(sw: Sweep, m: dict) -> list:
+    """Each axle's steer angle, its roll steer and understeer term in the legend."""
+    return [(role, sw.columns[f"steer_{role}_deg"],
+             f"{sw.model}: {role}, roll steer "
+             f"{_num(m[role]['axle_roll_steer_deg_per_deg'], '+.4f')} deg/deg, understeer "
+             f"{_num(m[role]['understeer_roll_steer_deg_per_g'], '+.3f')} deg/g")
+            for role in ("front", "rear")]
 
 
 def _roll_axis(ax, summary: dict) -> list:
@@ -183,8 +179,10 @@ def vehicle_charts(summary: dict, sweeps: list[Sweep], out_dir: Path, svg: bool 
                    ) -> list[Path]:
     """The car's charts (:data:`VEHICLE_CHARTS`) into ``out_dir``: the table's charts when
     there are body-roll sweeps; returns the files written."""
-    draw = {"car_roll_moment_vs_body_roll": lambda ax: _roll_moment(ax, summary, sweeps),
-            "car_axle_steer_vs_body_roll": lambda ax: _axle_steer(ax, summary, sweeps),
+    draw = {"car_roll_moment_vs_body_roll": lambda ax: _against_roll(
+                ax, summary, sweeps, _moments, _label("roll_moment_total_Nmm")),
+            "car_axle_steer_vs_body_roll": lambda ax: _against_roll(
+                ax, summary, sweeps, _steers, "axle steer angle [deg] (+ left)"),
             "car_roll_axis": lambda ax: _roll_axis(ax, summary),
             "car_understeer_terms": lambda ax: _understeer(ax, summary)}
     if not sweeps:
