@@ -231,7 +231,8 @@ def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatc
     monkeypatch.chdir(tmp_path)
     path = _write(tmp_path, vehicle_file(tmp_path, cg_height_mm=700.0, brake_fraction_front=0.5,
                                          axle_mass_kg={"front": 1200.0,
-                                                       "rear": MASSES["rear"]}))
+                                                       "rear": MASSES["rear"]},
+                                         lateral_transfer_fraction_front=0.6))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         v = load_vehicle(path)
@@ -248,6 +249,7 @@ def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatc
     assert v.front.axle.vehicle.cg_height_mm == v.rear.axle.vehicle.cg_height_mm == 700.0
     assert v.rear.axle.vehicle.position == "rear"
     assert v.rear.axle.vehicle.axle_mass_kg.front == 1200.0  # the static-load cases' too
+    assert v.rear.axle.vehicle.lateral_transfer_fraction == pytest.approx(0.4)
     assert v.front.config_sha256 == hashlib.sha256(
         (tmp_path / "front.yaml").read_bytes()).hexdigest()  # the file's own bytes
     assert v.front.rig.roll_vertical_force.amplitude_deg == 1.0  # the table's roll

@@ -2,8 +2,8 @@
 config with the vehicle's data in place of its own ``axle.vehicle`` and the table's body roll
 as its roll case, and the one set of vehicle data (README "The whole car").
 
-The axle configs' paths are confined to the vehicle file's folder and the working folder
-(:mod:`elastokin.config.confined`); each config is validated as it is first (its own errors
+The axle configs' paths are confined to the vehicle file's folder and the folders typed with
+``--data`` (:mod:`elastokin.config.confined`); each config is validated as it is first (its own errors
 name its own keys), then with the vehicle's data. Where an axle's own data contradict the
 vehicle's (a vehicle key it types with another value; a design wheel load that does not carry
 the vehicle's mass on that axle) a :class:`VehicleDataWarning` names both files and keys.
@@ -149,7 +149,8 @@ def load_vehicle(path: str | Path, rig_path: str | Path | None = None) -> Vehicl
         raise ConfigError(format_validation_error(str(path), err, raw, VehicleFile)) from None
     front_kg, rear_kg = spec.masses_kg()
     data = CarData(spec.wheelbase_mm, spec.cg_height_mm, front_kg, rear_kg,
-                       spec.brake_fraction_front, spec.drive_fraction_front)
+                   spec.brake_fraction_front, spec.drive_fraction_front,
+                   spec.lateral_transfer_fraction_front)
     rig = None if rig_path is None else (str(rig_path), *read_rig(rig_path))
     typed = typed_folders()
     roots = Roots.of((path.parent, *typed), "the vehicle file's folder"
