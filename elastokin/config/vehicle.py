@@ -3,8 +3,8 @@ config with the vehicle's data in place of its own ``axle.vehicle`` and the tabl
 as its roll case, and the one set of vehicle data (README "The whole car").
 
 The axle configs' paths are confined to the vehicle file's folder and the folders typed with
-``--data`` (:mod:`elastokin.config.confined`); each config is validated as it is first (its own errors
-name its own keys), then with the vehicle's data. Where an axle's own data contradict the
+``--data`` (:mod:`elastokin.config.confined`); each config is validated as it is first (its
+own errors name its own keys), then with the vehicle's data. Where an axle's own data contradict the
 vehicle's (a vehicle key it types with another value; a design wheel load that does not carry
 the vehicle's mass on that axle) a :class:`VehicleDataWarning` names both files and keys.
 
