@@ -113,14 +113,14 @@ def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: s
         inputs = {name: np.vstack([first[name], v]) for name, v in inputs.items()}
         n += 1
     ts = np.linspace(0.0, 1.0, n + 1)
-    applied = _set_paths(model, inputs, ts, n)
+    applied = set_attachment_paths(model, inputs, ts, n)
     rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
-    states = [_state(model, row, {k: v[i] for k, v in applied.items()})
+    states = [model_state(model, row, {k: v[i] for k, v in applied.items()})
               for i, row in enumerate(rows)]
     return states[1:] if settling else states
 
 
-def _set_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
+def set_attachment_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
     """Every attachment's path over ``ts``: every path starts from the design state at t = 0
     (support offset 0, loads at the first step's value). Returns the loads' values per step."""
     model.keep_alive.clear()
@@ -213,20 +213,34 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             break
         rows.append(hit[-1])
     idx = np.asarray(rows, int)
-    for name in model.bushings:  # bushing deflection: mm and deg in one 6-vector
-        data[f"bushing:{name}:u"] = np.concatenate(
-            [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / DEG],
-            axis=1)
-        data[f"bushing:{name}:load"] = np.concatenate(
-            [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
-            axis=1)
-    picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
-              for k, v in data.items()}
+    picked = _combined({k: v[idx, 1:] for k, v in data.items()}, model)
     return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
 
 
-def _state(model: SuspensionModel, row: dict[str, np.ndarray],
-           applied: dict[str, np.ndarray]) -> ModelState:
+def current_row(model: SuspensionModel) -> dict[str, np.ndarray]:
+    """Every sensor's value in the model's current configuration (whatever state was set),
+    in the form of one row of :func:`recorded`."""
+    current = exu.ConfigurationType.Current
+    data = {k: np.atleast_1d(np.asarray(model.mbs.GetSensorValues(v, current), float))[None, :]
+            for k, v in model.sensors.items()}
+    return {k: v[0] for k, v in _combined(data, model).items()}
+
+
+def _combined(data: dict[str, np.ndarray], model: SuspensionModel) -> dict[str, np.ndarray]:
+    """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
+    6-vector per step."""
+    for name in model.bushings:
+        data[f"bushing:{name}:u"] = np.concatenate(
+            [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
+        data[f"bushing:{name}:load"] = np.concatenate(
+            [data.pop(f"bushing:{name}:f"), data.pop(f"bushing:{name}:t")], axis=1)
+    return data
+
+
+def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
+                applied: dict[str, np.ndarray]) -> ModelState:
+    """The model's state from one row of its sensors' values (:func:`recorded`,
+    :func:`current_row`) and the loads applied at that step."""
     springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
     # twist (deg, the second half relative to the first about its axis) and torque (N*mm)

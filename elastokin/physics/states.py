@@ -70,6 +70,9 @@ class ModelState:
     sensitivity: StateSensitivity | None = None
     #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``
     scalars: dict[str, float] = field(default_factory=dict)
+    #: with design sensitivities (:mod:`elastokin.mbs.twins`): per design variable, this
+    #: step's states on its twin models (``plus``, ``minus``, ``step``)
+    design: list | None = None
 
 
 @dataclass
@@ -95,3 +98,6 @@ class StepState:
     poses: PartPoses | None = None
     sensitivity: dict[str, np.ndarray] | None = None
     scalars: dict[str, float] = field(default_factory=dict)  # see ModelState.scalars
+    #: with design sensitivities: per design variable, (plus, minus, step) with plus and
+    #: minus this wheel's states on the twin models (:mod:`elastokin.mbs.twins`)
+    design: list | None = None

@@ -55,47 +55,99 @@ if TYPE_CHECKING:
 
 
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
-                    variations: Sequence | None = None) -> list[Sweep]:
+                    variations: Sequence | None = None, twins: Sequence | None = None
+                    ) -> list[Sweep]:
     """The sweeps of ``drive`` on ``model``, one per wheel (the config side's first; the
     pads attached when they are not yet); with ``variations`` (parameters of the model's
     parametric bushings, :class:`~elastokin.mbs.sensitivity.LawVariation`) every sweep
-    carries the tangents of its wheel's columns (``Sweep.tangents``)."""
+    carries the tangents of its wheel's columns (``Sweep.tangents``); with ``twins`` (per
+    design variable a :class:`~elastokin.mbs.twins.TwinPair` and, by sign, the same load
+    case's drive on that twin's suspension: :func:`twin_drives`) the tangents of every
+    column (``Sweep.tangents``: column -> (steps, variables))."""
     s = model.suspension
     rig = s.rig_source
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
+    twins = list(twins or ())
     if drive.load_case == "steering":
-        drive = left_turning(model, drive, what)
+        drive, mirrored = left_turning(model, drive, what)
+        twins = [(pair, {sign: mirrored_rack(d, pair.models()[0 if sign > 0 else 1][1])
+                         if mirrored else d for sign, d in per_sign.items()})
+                 for pair, per_sign in twins]
+    rig_twins = [(pair, {sign: (d.wheels, d.rack_travel_mm, d.heave_load_N)
+                         for sign, d in per_sign.items()}) for pair, per_sign in twins]
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
-                    variations=variations)
-    cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
-    own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
+                    variations=variations, twins=rig_twins)
     keep = drive.recorded
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
+    columns = sweep_columns(steps, s, drive)
+    tangents = {side: {} for side in s.sides}
+    for k, (pair, per_sign) in enumerate(twins):
+        moved = {sign: sweep_columns([{side: st[side].design[k][0 if sign > 0 else 1]
+                                       for side in st} for st in steps],
+                                     m.suspension, per_sign[sign])
+                 for sign, m in pair.models()}
+        for side in s.sides:
+            for name, value in columns[side].items():
+                if name == "branch" or name not in moved[1][side]:
+                    continue
+                t = tangents[side].setdefault(name, np.zeros((len(steps), len(twins))))
+                t[:, k] = (np.asarray(moved[1][side][name], float)
+                           - np.asarray(moved[-1][side][name], float)) / (2.0 * pair.step)
+    sweeps = []
+    for side in s.sides:
+        if variations:
+            tangents[side] = wheel_column_tangents([st[side] for st in steps], s.on_side(side))
+        sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side))
+    return sweeps
+
+
+def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive
+                  ) -> dict[str, dict[str, np.ndarray]]:
+    """Every column of each wheel's sweep (by side) from the recorded rig steps of
+    ``drive`` (its ``recorded`` selection applied)."""
+    s = suspension
+    keep = drive.recorded
+    cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
+    own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
+    if keep is not None:
         cols = {k: v[keep] for k, v in cols.items()}
         own = {k: v[keep] for k, v in own.items()}
     by_side = {side: [st[side] for st in steps] for side in s.sides}
     shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
-    sweeps = []
+    out = {}
     for side in s.sides:
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
-        columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
-        tangents = wheel_column_tangents(by_side[side], view) if variations else {}
-        sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
-    return sweeps
+        out[side] = {**cols, **mine, **characteristics(by_side[side], view), **shared}
+    return out
+
+
+def twin_drives(twins: Sequence, load_case: str, rig: RigSpec | None, kinematic: bool
+                ) -> list[tuple]:
+    """Per twin pair, by sign, the drive of ``load_case`` on that twin's suspension (the
+    design may change a drive: the steering ratio its rack travel, the track its roll)."""
+    out = []
+    for pair in twins:
+        per_sign = {}
+        for sign, m in pair.models():
+            per_sign[sign] = next(d for d in drives(m.suspension, rig, kinematic)
+                                  if d.load_case == load_case)
+        out.append((pair, per_sign))
+    return out
 
 
 #: rack travel (mm) of the probe step that finds the pinion's sense (:func:`left_turning`)
 STEERING_PROBE_MM = 0.1
 
 
-def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
-    """The steering ``drive`` with the pinion's sense that turns the wheels to the left for a
+def left_turning(model: SuspensionModel, drive: Drive, what: str) -> tuple[Drive, bool]:
+    """(the steering ``drive`` with the pinion's sense that turns the wheels to the left for a
     positive steering-wheel angle (ISO 8855, as ADAMS/Car). Rack travel + along the rack's
     axis turns the wheels left or right depending on whether the tie rods are behind or
     ahead of the wheel centres: one probe step of :data:`STEERING_PROBE_MM` decides, and the
-    rack's travel is mirrored about its held position when it turns them right."""
+    rack's travel is mirrored about its held position when it turns them right; whether it
+    was)."""
     t0 = model.suspension.axle.steering.travel_mm
     probe = {side: WheelInputs(None, np.repeat(np.asarray(wi.pad_loads)[:1], 2, axis=0),
                                np.repeat(np.asarray(wi.centre_loads)[:1], 2, axis=0))
@@ -106,8 +158,14 @@ def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
     toe = toe_deg(np.array([st[s.side].spin_axis for st in steps]), s.forward, s.outboard)
     left_turn = (toe[1] - toe[0]) * steer_sign(s.side)
     if left_turn >= 0.0:
-        return drive
-    rack = 2.0 * t0 - drive.rack_travel_mm
+        return drive, False
+    return mirrored_rack(drive, model), True
+
+
+def mirrored_rack(drive: Drive, model: SuspensionModel) -> Drive:
+    """``drive`` with the rack's travel mirrored about its held position (the pinion's
+    other sense, :func:`left_turning`)."""
+    rack = 2.0 * model.suspension.axle.steering.travel_mm - drive.rack_travel_mm
     return replace(drive, rack_travel_mm=rack, columns={**drive.columns, "rack_travel_mm": rack})
 
 
@@ -118,12 +176,16 @@ def run_drive(model: SuspensionModel, label: str, drive: Drive,
 
 
 def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None = None,
-                         variations: Sequence | None = None) -> dict[str, list[Sweep]]:
+                         variations: Sequence | None = None, twins: Sequence | None = None
+                         ) -> dict[str, list[Sweep]]:
     """Every load case of ``rig`` (default: the model's config's) on ``model``: the sweeps by
-    side (the config side's first)."""
+    side (the config side's first); ``twins``: design sensitivities, a
+    :class:`~elastokin.mbs.twins.TwinPair` per design variable (:func:`run_drive_sides`)."""
     out: dict[str, list[Sweep]] = {side: [] for side in model.suspension.sides}
-    for d in drives(model.suspension, rig, model.suspension.kinematic):
-        for sw in run_drive_sides(model, label, d, variations):
+    kinematic = model.suspension.kinematic
+    for d in drives(model.suspension, rig, kinematic):
+        pairs = twin_drives(twins, d.load_case, rig, kinematic) if twins else None
+        for sw in run_drive_sides(model, label, d, variations, pairs):
             out[sw.side].append(sw)
     return out
 

@@ -81,8 +81,8 @@ def attach_heave(model: SuspensionModel) -> None:
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
             rack_travel_mm: np.ndarray | None = None, heave_load_N: np.ndarray | None = None,
             what: str = "static solve", solve_per_step: bool = False,
-            substeps: int | None = None, variations: Sequence | None = None
-            ) -> list[dict[str, StepState]]:
+            substeps: int | None = None, variations: Sequence | None = None,
+            twins: Sequence | None = None) -> list[dict[str, StepState]]:
     """Quasi-static steps of the rig from the design position, one dict of wheel states (by
     side) per step.
 
@@ -94,15 +94,63 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     variations: parameters of the model's parametric bushings
         (:class:`~elastokin.mbs.sensitivity.LawVariation`): every step then carries the
         derivatives of each wheel centre, contact patch and spin axis with respect to them.
+    twins: design sensitivities: per design variable a pair of twin models
+        (:class:`~elastokin.mbs.twins.TwinPair`) and, by sign (+1, -1), the arguments
+        ``(wheels, rack_travel_mm, heave_load_N)`` of the same load case on that twin's
+        suspension; every wheel state then carries ``design``: per variable its states on
+        the twins (``(plus, minus, step)``).
     """
     from elastokin.mbs.sensitivity import solve_path_with_sensitivities
     from elastokin.mbs.solve import solve_path
+    from elastokin.mbs.twins import solve_path_with_twins
 
     s = model.suspension
     missing = sorted(set(s.wheels) - set(wheels))
     if missing:
         raise ModelError(f"{s.source}: the rig needs inputs for the wheel(s) on the "
                          f"{', '.join(missing)} side")
+    inputs, settle = rig_inputs(model, wheels, rack_travel_mm, heave_load_N)
+    roll = heave_load_N is not None
+    twins = list(twins or ())
+    for pair, per_sign in twins:
+        pair.inputs = {sign: rig_inputs(m, *per_sign[sign])[0] for sign, m in pair.models()}
+    heaving = [model, *(m for pair, _ in twins for _, m in pair.models())] if roll else []
+    for m in heaving:
+        m.set_support_axes(HEAVE, HEAVING)
+    try:
+        if twins:
+            states = solve_path_with_twins(model, inputs, what, [p for p, _ in twins])
+        elif variations:
+            states = solve_path_with_sensitivities(model, inputs, what, variations)
+        else:
+            # with ball-joint friction the suspension first settles under the first loads
+            states = solve_path(model, inputs, what, settle=settle,
+                                solve_per_step=solve_per_step, substeps=substeps)
+    finally:
+        for m in heaving:
+            m.set_support_axes(HEAVE, HELD)
+    out = []
+    for st in states:
+        step = {}
+        for side, wi in wheels.items():
+            control = wi.pad_z_mm is not None
+            step[side] = wheel_state(model, st, side, control, roll)
+            if st.design is not None:
+                step[side].design = [
+                    (wheel_state(pair.plus, d.plus, side, control, roll),
+                     wheel_state(pair.minus, d.minus, side, control, roll), d.step)
+                    for (pair, _), d in zip(twins, st.design)]
+        out.append(step)
+    return out
+
+
+def rig_inputs(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
+               rack_travel_mm: np.ndarray | None = None,
+               heave_load_N: np.ndarray | None = None) -> tuple[dict, dict]:
+    """The rig attached to ``model`` (pads, and the heave beam for roll) and its inputs as
+    the solver takes them: (attachment name -> values per step, the loads the suspension
+    settles under when it has friction)."""
+    s = model.suspension
     attach_pads(model)
     inputs, settle = {}, {}
     roll = heave_load_N is not None
@@ -122,19 +170,7 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
         attach_heave(model)
         inputs[HEAVE_LOAD] = np.asarray(heave_load_N, float)[:, None] * s.up
         settle[HEAVE_LOAD] = inputs[HEAVE_LOAD][0]  # the beam carries the wheels as it settles
-        model.set_support_axes(HEAVE, HEAVING)
-    try:
-        if variations:
-            states = solve_path_with_sensitivities(model, inputs, what, variations)
-        else:
-            # with ball-joint friction the suspension first settles under the first loads
-            states = solve_path(model, inputs, what, settle=settle,
-                                solve_per_step=solve_per_step, substeps=substeps)
-    finally:
-        if roll:
-            model.set_support_axes(HEAVE, HELD)
-    return [{side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
-             for side, wi in wheels.items()} for st in states]
+    return inputs, settle
 
 
 def _steering_inputs(model: SuspensionModel, rack_travel_mm) -> dict[str, np.ndarray]:
