@@ -213,7 +213,7 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             break
         rows.append(hit[-1])
     idx = np.asarray(rows, int)
-    picked = _combined({k: v[idx, 1:] for k, v in data.items()}, model)
+    picked = combined_sensors({k: v[idx, 1:] for k, v in data.items()}, model)
     return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
 
 
@@ -223,10 +223,11 @@ def current_row(model: SuspensionModel) -> dict[str, np.ndarray]:
     current = exu.ConfigurationType.Current
     data = {k: np.atleast_1d(np.asarray(model.mbs.GetSensorValues(v, current), float))[None, :]
             for k, v in model.sensors.items()}
-    return {k: v[0] for k, v in _combined(data, model).items()}
+    return {k: v[0] for k, v in combined_sensors(data, model).items()}
 
 
-def _combined(data: dict[str, np.ndarray], model: SuspensionModel) -> dict[str, np.ndarray]:
+def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
+                     ) -> dict[str, np.ndarray]:
     """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
     6-vector per step."""
     for name in model.bushings:

@@ -32,8 +32,16 @@ import numpy as np
 
 from elastokin.errors import ModelError
 from elastokin.mbs.model import SuspensionModel
-from elastokin.mbs.sensitivity import Recorder, Residual, solve_tangents, system_matrices
-from elastokin.mbs.solve import current_row, model_state, set_attachment_paths, solve_path
+from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.sensitivity import (
+    Recorder,
+    Residual,
+    part_coordinates,
+    rxyz_matrix,
+    solve_tangents,
+    system_matrices,
+)
+from elastokin.mbs.solve import combined_sensors, model_state, solve_path
 from elastokin.physics.states import ModelState
 
 
@@ -77,9 +85,12 @@ def twin_model(model: SuspensionModel, suspension, preloads) -> SuspensionModel:
 
 
 def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarray],
-                          what: str, twins: Sequence[TwinPair]) -> list[ModelState]:
+                          what: str, twins: Sequence[TwinPair], bushings: bool = True
+                          ) -> list[ModelState]:
     """:func:`~elastokin.mbs.solve.solve_path`; each returned state carries ``design``: one
-    :class:`DesignStates` per twin pair (module docstring). Friction is refused."""
+    :class:`DesignStates` per twin pair (module docstring); ``bushings``: with the bushings'
+    deflections and loads in the twins' states (else NaN: they cost a call into Exudyn per
+    bushing, state and variable). Friction is refused."""
     if model.friction or model.substeps != 1:
         raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
     recorder = Recorder()
@@ -97,57 +108,168 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
         A, _ = system_matrices(res, steps)
     finally:
         res.close()
-    B = np.empty((n, res.n, len(twins)))
-    for k, tw in enumerate(twins):
-        r = {sign: twin_residuals(twin, tw.inputs[sign], steps, what)
-             for sign, twin in tw.models()}
-        B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
-    dy = solve_tangents(A, B)
-    per_twin = [_twin_states(tw, steps, dy[:, :, k], what) for k, tw in enumerate(twins)]
+    prepared = [{sign: (StepInputs(twin, tw.inputs[sign], n), Residual(twin, n, what))
+                 for sign, twin in tw.models()} for tw in twins]
+    try:
+        B = np.empty((n, res.n, len(twins)))
+        for k, tw in enumerate(twins):
+            r = {sign: _residuals(res_k, feed, steps)
+                 for sign, (feed, res_k) in prepared[k].items()}
+            B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
+        dy = solve_tangents(A, B)
+        per_twin = [_twin_states(tw, prepared[k], steps, dy[:, :, k], bushings)
+                    for k, tw in enumerate(twins)]
+    finally:
+        for both in prepared:
+            for _, res_k in both.values():
+                res_k.close()
     for i, state in enumerate(states):
         state.design = [DesignStates(plus[i], minus[i], tw.step)
                         for tw, (plus, minus) in zip(twins, per_twin)]
     return states
 
 
-def _prepared(twin: SuspensionModel, inputs, n: int, what: str):
-    """The twin with the inputs' paths set for ``n`` steps: (residual, applied loads)."""
-    ts = np.linspace(0.0, 1.0, n + 1)
-    applied = set_attachment_paths(twin, {k: np.atleast_2d(np.asarray(v, float))
-                                          for k, v in inputs.items()}, ts, n)
-    twin.mbs.Assemble()
-    return Residual(twin, n, what), applied
+class StepInputs:
+    """A twin's attachments fed step by step (Python user functions returning the values of
+    the step at hand: a residual at a recorded step needs no path, and a twin built for a
+    few residuals should not compile symbolic ones): loads at their inputs (zero without),
+    supports given inputs or locks active at them, the others inactive, as
+    :func:`~elastokin.mbs.solve.set_attachment_paths` sets them for a solve."""
+
+    def __init__(self, model: SuspensionModel, inputs: Mapping[str, np.ndarray], n: int):
+        self.model = model
+        mbs = model.mbs
+        self.values = {}
+        for name, e in model.loads.items():
+            v = np.asarray(inputs.get(name, np.zeros((n, 3))), float).reshape(n, -1)
+            self.values[name] = v
+            mbs.SetLoadParameter(e["load"], "loadVectorUserFunction",
+                                 lambda mbs, t, vector, name=name: self.current[name])
+        for name, e in model.supports.items():
+            active = name in inputs or name in model.locks
+            if active:
+                v = inputs[name] if name in inputs else np.tile(model.locks[name], (n, 1))
+                self.values[name] = np.asarray(v, float).reshape(n, 6)
+                mbs.SetObjectParameter(e["object"], "offsetUserFunction",
+                                       lambda mbs, t, item, par, name=name: self.current[name])
+            mbs.SetObjectParameter(e["object"], "activeConnector", active)
+        self.current = {k: v[0].tolist() for k, v in self.values.items()}
+        mbs.Assemble()
+
+    def at(self, i: int) -> None:
+        self.current = {k: v[i].tolist() for k, v in self.values.items()}
+
+    @property
+    def applied(self) -> dict[str, np.ndarray]:
+        return {k: self.values[k] for k in self.model.loads}
 
 
 def twin_residuals(twin: SuspensionModel, inputs, steps, what: str) -> np.ndarray:
     """(n_steps, N): the twin's residual at each recorded step of the model (time,
-    coordinates, multipliers), its inputs' paths set."""
-    res, _ = _prepared(twin, inputs, len(steps), what)
+    coordinates, multipliers), its inputs set (attachment name -> values per step)."""
+    feed = StepInputs(twin, inputs, len(steps))
+    res = Residual(twin, len(steps), what)
     try:
-        out = np.empty((len(steps), res.n))
-        for i, step in enumerate(steps):
-            res.set_state(*step)
-            out[i] = res.residual()
-        return out
+        return _residuals(res, feed, steps)
     finally:
         res.close()
 
 
-def _twin_states(tw: TwinPair, steps, dy: np.ndarray, what: str
+def _residuals(res: Residual, feed: StepInputs, steps) -> np.ndarray:
+    out = np.empty((len(steps), res.n))
+    for i, step in enumerate(steps):
+        feed.at(i)
+        res.set_state(*step)
+        out[i] = res.residual()
+    return out
+
+
+def _twin_states(tw: TwinPair, prepared, steps, dy: np.ndarray, bushings: bool
                  ) -> tuple[list[ModelState], list[ModelState]]:
     """Each twin's states at the steps moved by ``+-step * dy`` (n_steps, N)."""
     out = []
+    q0 = np.array([q for _, q, _ in steps])
+    lam0 = np.array([lam for _, _, lam in steps])
+    times = [t for t, _, _ in steps]
     for sign, twin in tw.models():
-        res, applied = _prepared(twin, tw.inputs[sign], len(steps), what)
+        feed, res = prepared[sign]
         n2 = res.n2
-        try:
-            states = []
-            for i, (t, q, lam) in enumerate(steps):
-                y = sign * tw.step * dy[i]
-                res.set_state(t, q + y[:n2], lam + y[n2:])
-                states.append(model_state(twin, current_row(twin),
-                                          {k: v[i] for k, v in applied.items()}))
-        finally:
-            res.close()
-        out.append(states)
+        q = q0 + sign * tw.step * dy[:, :n2]
+        lam = lam0 + sign * tw.step * dy[:, n2:]
+        rows = state_rows(twin, res, times, q, lam, bushings, feed)
+        applied = feed.applied
+        out.append([model_state(twin, row, {k: v[i] for k, v in applied.items()})
+                    for i, row in enumerate(rows)])
     return out[0], out[1]
+
+
+def state_rows(model: SuspensionModel, res: Residual, times, q: np.ndarray,
+               lam: np.ndarray, bushings: bool = True, feed: StepInputs | None = None
+               ) -> list[dict[str, np.ndarray]]:
+    """The model's sensor rows (as :func:`~elastokin.mbs.solve.recorded` gives them) at the
+    states ``q`` (n, n2), ``lam`` (n, n_ae): the parts' poses, the point sensors, the
+    supports' reactions, the springs' and stops' forces computed here, vectorised (the
+    definitions of Exudyn's outputs: pose from the Tait-Bryan angles, a support's force its
+    multipliers, a spring's force ``k (L - L0)``); the other sensors (bushings, the
+    anti-roll bar) read from Exudyn in each state (the bushings NaN unless ``bushings``)."""
+    mbs = model.mbs
+    coords = part_coordinates(model)
+    rot = {p: rxyz_matrix(q[:, i[3:]]) for p, i in coords.items()}
+    disp = {p: q[:, i[:3]] for p, i in coords.items()}
+    part_of = {int(b): p for p, b in {**model.body, **model.rig_bodies}.items()}
+
+    def marker_position(marker: int) -> np.ndarray:
+        m = mbs.GetMarker(marker)
+        local = np.asarray(m["localPosition"], float)
+        part = part_of.get(int(m["bodyNumber"]))
+        if part is None:  # the ground
+            return np.tile(local, (q.shape[0], 1))
+        return model.ref[part] + disp[part] + rot[part] @ local
+
+    data: dict[str, np.ndarray] = {}
+    for name in model.pose_refs:
+        data[f"part:{name}:R"] = rot[name].reshape(-1, 9)
+        data[f"part:{name}:disp"] = disp[name]
+    for name, (part, local) in model.point_sensors.items():
+        data[f"point:{name}"] = model.ref[part] + disp[part] + rot[part] @ local
+    for name, e in model.supports.items():
+        data[f"support:{name}"] = lam[:, np.asarray(mbs.systemData.GetObjectLTGAE(
+            e["object"]), int)[:3]]
+    for key, number, law in _line_forces(model):
+        obj = mbs.GetObject(number)
+        m0, m1 = obj["markerNumbers"]
+        length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
+        data[key] = law(length, obj)[:, None]
+    if not bushings:
+        data.update({k: np.full((q.shape[0], 3), np.nan) for k in model.sensors
+                     if k.startswith("bushing:")})
+    rest = [k for k in model.sensors if k not in data]
+    if rest:
+        current = exu.ConfigurationType.Current
+        values = {k: [] for k in rest}
+        for i, (t, qi, li) in enumerate(zip(times, q, lam)):
+            if feed is not None:
+                feed.at(i)
+            res.set_state(t, qi, li)
+            for k in rest:
+                values[k].append(np.atleast_1d(mbs.GetSensorValues(model.sensors[k], current)))
+        data.update({k: np.array(v, float) for k, v in values.items()})
+    combined = combined_sensors(data, model)
+    return [{k: v[i] for k, v in combined.items()} for i in range(q.shape[0])]
+
+
+def _line_forces(model: SuspensionModel):
+    """(sensor key, object, force law of its length) of every coil spring and stop: Exudyn's
+    ``ForceLocal`` of a spring-damper, ``k (L - L0)``, and a stop's user function
+    (:func:`~elastokin.mbs.axle_elements.stop_function`)."""
+    out = []
+    for name, number in model.springs.items():
+        out.append((f"spring:{name}", number,
+                    lambda L, obj: obj["stiffness"] * (L - obj["referenceLength"])))
+    for stop in model.suspension.stops:
+        number = model.stops[stop.name]
+        sign = -1.0 if stop.kind == "bump" else 1.0
+        out.append((f"stop:{stop.name}", number,
+                    lambda L, obj, law=stop.law, sign=sign: sign * law(
+                        np.maximum(sign * (L - obj["referenceLength"]), 0.0))))
+    return out

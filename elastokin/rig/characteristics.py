@@ -78,8 +78,10 @@ def steer_sign(side: str) -> float:
 
 
 def characteristics(states: list[StepState], suspension: Suspension,
-                    design: StepState | None = None) -> dict[str, np.ndarray]:
-    """Per-step columns (kc.csv name -> array) from solved rig steps."""
+                    design: StepState | None = None, steering_rows: np.ndarray | None = None
+                    ) -> dict[str, np.ndarray]:
+    """Per-step columns (kc.csv name -> array) from solved rig steps; ``steering_rows``: the
+    steps whose steering-axis columns are computed (default all; the others NaN)."""
     s = suspension
     centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
     centre = np.array([st.wheel_centre_mm for st in states])
@@ -101,8 +103,15 @@ def characteristics(states: list[StepState], suspension: Suspension,
     # steer angle: toe change from the design position, + turning the wheel to the left
     toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
     cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * steer_sign(s.side)
-    if states[0].poses is not None:  # models that record the wheel part only: none
+    if states[0].poses is not None and steering_rows is None:
         cols.update(steering_axis_columns(states, s))
+    elif states[0].poses is not None:  # models that record the wheel part only: none
+        rows = np.asarray(steering_rows, int)
+        some = steering_axis_columns([states[i] for i in rows], s) if rows.size else {}
+        for name in STEERING_AXIS_COLUMNS:
+            cols[name] = np.full(len(states), np.nan)
+            if rows.size:
+                cols[name][rows] = some[name]
     mine = own_items(s)
     for name in states[0].spring_force_N:
         if mine(name):

@@ -42,7 +42,7 @@ from elastokin.rig.drives import (
 )
 from elastokin.rig.pad import WheelInputs, run_pad, run_rig
 from elastokin.rig.paths import travel_path
-from elastokin.rig.sweeps import Sweep
+from elastokin.rig.sweeps import Sweep, static_rows
 
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
            "force_sweep", "parallel_travel", "parallel_travel_drive", "run_drive",
@@ -55,15 +55,17 @@ if TYPE_CHECKING:
 
 
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
-                    variations: Sequence | None = None, twins: Sequence | None = None
-                    ) -> list[Sweep]:
+                    variations: Sequence | None = None, twins: Sequence | None = None,
+                    detail: str = "full") -> list[Sweep]:
     """The sweeps of ``drive`` on ``model``, one per wheel (the config side's first; the
     pads attached when they are not yet); with ``variations`` (parameters of the model's
     parametric bushings, :class:`~elastokin.mbs.sensitivity.LawVariation`) every sweep
     carries the tangents of its wheel's columns (``Sweep.tangents``); with ``twins`` (per
     design variable a :class:`~elastokin.mbs.twins.TwinPair` and, by sign, the same load
     case's drive on that twin's suspension: :func:`twin_drives`) the tangents of every
-    column (``Sweep.tangents``: column -> (steps, variables))."""
+    column (``Sweep.tangents``: column -> (steps, variables)); ``detail``: ``full`` (every
+    column at every step) or ``summary`` (what the summary figures read: no bushing
+    columns, the steering axis at the static state only; the others NaN)."""
     s = model.suspension
     rig = s.rig_source
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
@@ -76,16 +78,17 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     rig_twins = [(pair, {sign: (d.wheels, d.rack_travel_mm, d.heave_load_N)
                          for sign, d in per_sign.items()}) for pair, per_sign in twins]
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
-                    variations=variations, twins=rig_twins)
+                    variations=variations, twins=rig_twins, bushings=detail == "full")
     keep = drive.recorded
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
     columns = sweep_columns(steps, s, drive)
+    rows = None if detail == "full" else static_rows(columns[s.side])
     tangents = {side: {} for side in s.sides}
     for k, (pair, per_sign) in enumerate(twins):
         moved = {sign: sweep_columns([{side: st[side].design[k][0 if sign > 0 else 1]
                                        for side in st} for st in steps],
-                                     m.suspension, per_sign[sign])
+                                     m.suspension, per_sign[sign], rows)
                  for sign, m in pair.models()}
         for side in s.sides:
             for name, value in columns[side].items():
@@ -102,10 +105,11 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     return sweeps
 
 
-def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive
-                  ) -> dict[str, dict[str, np.ndarray]]:
+def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive,
+                  steering_rows: np.ndarray | None = None) -> dict[str, dict[str, np.ndarray]]:
     """Every column of each wheel's sweep (by side) from the recorded rig steps of
-    ``drive`` (its ``recorded`` selection applied)."""
+    ``drive`` (its ``recorded`` selection applied; ``steering_rows``: see
+    :func:`~elastokin.rig.characteristics.characteristics`)."""
     s = suspension
     keep = drive.recorded
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
@@ -119,7 +123,9 @@ def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive
     for side in s.sides:
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
-        out[side] = {**cols, **mine, **characteristics(by_side[side], view), **shared}
+        out[side] = {**cols, **mine, **characteristics(by_side[side], view,
+                                                        steering_rows=steering_rows),
+                     **shared}
     return out
 
 
@@ -176,8 +182,8 @@ def run_drive(model: SuspensionModel, label: str, drive: Drive,
 
 
 def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None = None,
-                         variations: Sequence | None = None, twins: Sequence | None = None
-                         ) -> dict[str, list[Sweep]]:
+                         variations: Sequence | None = None, twins: Sequence | None = None,
+                         detail: str = "full") -> dict[str, list[Sweep]]:
     """Every load case of ``rig`` (default: the model's config's) on ``model``: the sweeps by
     side (the config side's first); ``twins``: design sensitivities, a
     :class:`~elastokin.mbs.twins.TwinPair` per design variable (:func:`run_drive_sides`)."""
@@ -185,7 +191,7 @@ def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None
     kinematic = model.suspension.kinematic
     for d in drives(model.suspension, rig, kinematic):
         pairs = twin_drives(twins, d.load_case, rig, kinematic) if twins else None
-        for sw in run_drive_sides(model, label, d, variations, pairs):
+        for sw in run_drive_sides(model, label, d, variations, pairs, detail):
             out[sw.side].append(sw)
     return out
 
@@ -215,16 +221,35 @@ def force_sweep(model: SuspensionModel, label: str, case: str,
 
 
 def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
-                     torque_step_Nmm: float = 1000.0) -> np.ndarray:
+                     torque_step_Nmm: float = 1000.0, twins: Sequence | None = None):
     """Compliance of every wheel centre at the static equilibrium under the design wheel
     loads (patches free), by central differences: (6 n, 6 n) for n wheels (the config side's
     first: on an axle ADAMS/Car's 12x12 matrix with the left wheel first when the config is a
     left corner); per wheel columns force x, y, z (N) and torque x, y, z (N*mm) at its centre,
     rows its centre's displacement x, y, z (mm) and rotation vector x, y, z (deg); config
-    frame."""
-    from scipy.spatial.transform import Rotation
-
+    frame. With ``twins`` (design sensitivities, :func:`run_drive_sides`): (the matrix, its
+    derivatives (6 n, 6 n, variables))."""
     s = model.suspension
+    loads = _compliance_loads(s, force_step_N, torque_step_Nmm)
+    pairs = [(pair, {sign: (_compliance_loads(m.suspension, force_step_N, torque_step_Nmm),
+                            None, None) for sign, m in pair.models()}) for pair in twins or ()]
+    states = run_rig(model, loads, what="compliance matrix", twins=pairs)
+    C = compliance_from_states(states, s, force_step_N, torque_step_Nmm)
+    if twins is None:
+        return C
+    dC = np.zeros((*C.shape, len(pairs)))
+    for k, (pair, _) in enumerate(pairs):
+        moved = [compliance_from_states([{side: st[side].design[k][i] for side in st}
+                                         for st in states], m.suspension, force_step_N,
+                                        torque_step_Nmm)
+                 for i, (_, m) in enumerate(pair.models())]
+        dC[:, :, k] = (moved[0] - moved[1]) / (2.0 * pair.step)
+    return C, dC
+
+
+def _compliance_loads(s, force_step_N: float, torque_step_Nmm: float) -> dict:
+    """The compliance matrix's rig inputs: each wheel at its design load, then every force
+    and torque component at every wheel centre, + and - (central differences)."""
     n = len(s.sides)
     steps = [np.zeros(6 * n)]
     for k in range(6 * n):
@@ -233,9 +258,17 @@ def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
         steps += [h, -h]
     centre = np.array(steps)
     pad = np.tile(s.up * s.design.wheel_load_N, (len(steps), 1))
-    wheels = {side: WheelInputs(None, pad, centre[:, 6 * i:6 * i + 6])
-              for i, side in enumerate(s.sides)}
-    states = run_rig(model, wheels, what="compliance matrix")
+    return {side: WheelInputs(None, pad, centre[:, 6 * i:6 * i + 6])
+            for i, side in enumerate(s.sides)}
+
+
+def compliance_from_states(states: list, suspension, force_step_N: float = 10.0,
+                           torque_step_Nmm: float = 1000.0) -> np.ndarray:
+    """The compliance matrix (:func:`wheel_compliance`) from the rig steps of its inputs."""
+    from scipy.spatial.transform import Rotation
+
+    s = suspension
+    n = len(s.sides)
     base = states[0]
 
     def response(st):
@@ -248,7 +281,7 @@ def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
 
     C = np.empty((6 * n, 6 * n))
     for k in range(6 * n):
-        h = centre[1 + 2 * k, k]
+        h = force_step_N if k % 6 < 3 else torque_step_Nmm
         C[:, k] = (response(states[1 + 2 * k]) - response(states[2 + 2 * k])) / (2 * h)
     return C
 

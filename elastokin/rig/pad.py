@@ -82,7 +82,8 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
             rack_travel_mm: np.ndarray | None = None, heave_load_N: np.ndarray | None = None,
             what: str = "static solve", solve_per_step: bool = False,
             substeps: int | None = None, variations: Sequence | None = None,
-            twins: Sequence | None = None) -> list[dict[str, StepState]]:
+            twins: Sequence | None = None, bushings: bool = True
+            ) -> list[dict[str, StepState]]:
     """Quasi-static steps of the rig from the design position, one dict of wheel states (by
     side) per step.
 
@@ -98,7 +99,8 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
         (:class:`~elastokin.mbs.twins.TwinPair`) and, by sign (+1, -1), the arguments
         ``(wheels, rack_travel_mm, heave_load_N)`` of the same load case on that twin's
         suspension; every wheel state then carries ``design``: per variable its states on
-        the twins (``(plus, minus, step)``).
+        the twins (``(plus, minus, step)``); ``bushings``: with the bushings' deflections on
+        the twins (:func:`~elastokin.mbs.twins.solve_path_with_twins`).
     """
     from elastokin.mbs.sensitivity import solve_path_with_sensitivities
     from elastokin.mbs.solve import solve_path
@@ -119,7 +121,8 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
         m.set_support_axes(HEAVE, HEAVING)
     try:
         if twins:
-            states = solve_path_with_twins(model, inputs, what, [p for p, _ in twins])
+            states = solve_path_with_twins(model, inputs, what, [p for p, _ in twins],
+                                           bushings)
         elif variations:
             states = solve_path_with_sensitivities(model, inputs, what, variations)
         else:
