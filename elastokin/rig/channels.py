@@ -322,6 +322,9 @@ CHARACTERISTIC_LIST = (
                    "stroke (toe interpolated on an even travel grid)",
                    "parallel_travel", "wheel_travel_mm", "toe_deg", 1000.0,
                    (-BUMP_STEER_WINDOW_MM, BUMP_STEER_WINDOW_MM)),
+    Characteristic("bump_steer_at_design_deg_per_m", "bump steer at design", "deg/m", ".3f",
+                   "slope of toe vs wheel travel at the static state: central differences "
+                   "of the stroke's steps (np.gradient), at the design pad height"),
     Characteristic("bump_camber_deg_per_m", "bump camber", "deg/m", ".3f",
                    "least-squares slope of camber vs wheel travel over the measured stroke "
                    "(loading and unloading)",

@@ -152,6 +152,21 @@ def bump_steer_deg_per_m(sweep: Sweep) -> float:
     return c.scale * windowed_slope(sweep.stroke(c.x), sweep.stroke(c.y), c.window[1])
 
 
+def bump_steer_at_design_deg_per_m(sweep: Sweep) -> float | None:
+    """Toe change per wheel travel at the static state (deg/m): the stroke's slope by
+    central differences (``np.gradient`` on its uneven travel), read where the pad is at its
+    design height as :func:`~elastokin.rig.sweeps.static_row_value` reads a column."""
+    travel, toe = sweep.stroke("wheel_travel_mm"), sweep.stroke("toe_deg")
+    if travel.size < 3 or "pad_z_mm" not in sweep.columns:
+        return None
+    slope = np.gradient(toe, travel)
+    stroke = Sweep(sweep.model, sweep.load_case, {
+        "branch": np.full(travel.size, "stroke"), "pad_z_mm": sweep.stroke("pad_z_mm"),
+        "slope": slope})
+    value = static_row_value(stroke, "slope")
+    return None if value is None else 1000.0 * value
+
+
 def measured(sweep: Sweep, name: str) -> np.ndarray:
     """``name`` on the measured rows of a sweep: every branch but the ``approach`` from the
     design position to the start of the measured stroke (or to the first force)."""
@@ -168,6 +183,8 @@ def summary_figures(sweeps: list[Sweep], kinematic: bool,
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
            "bump_steer_deg_per_m": bump_steer_deg_per_m(travel) if has_toe else None,
+           "bump_steer_at_design_deg_per_m":
+               bump_steer_at_design_deg_per_m(travel) if has_toe else None,
            "kinematic": kinematic}
     for name in STEERING_AXIS_COLUMNS:
         out[name] = static_row_value(travel, name) if travel is not None else None

@@ -52,6 +52,8 @@ class DesignRun:
     suspension: Suspension
     design: DesignState
     models: dict[str, ModelResult]
+    #: per variable (the suspension at p + step, at p - step, step): with derivatives
+    variations: list = field(default_factory=list)
     summary: dict[str, dict[str, float]] = field(default_factory=dict)
     summary_tangents: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
 
@@ -97,7 +99,7 @@ def run_design(template: Suspension, variables: Sequence[DesignVariable], values
         design, d_design = design_state_tangents(s, moved)
     else:
         design, d_design = design_state(s), []
-    run = DesignRun(values, s, design, {})
+    run = DesignRun(values, s, design, {}, moved)
     for label in labels:
         kin = label.endswith("_kinematic")
         view = kinematic(s) if kin else s
