@@ -96,8 +96,10 @@ class DesignVariable:
 
     def _apply_hardpoint(self, raw, value, template) -> None:
         axle = raw.get("axle")
-        other = None if axle is None else axle.setdefault("other_side", {}).setdefault(
-            "hardpoints", {})
+        other = None
+        if axle is not None and (self.side != "both" or self.item in (
+                axle.get("other_side") or {}).get("hardpoints", {})):
+            other = axle.setdefault("other_side", {}).setdefault("hardpoints", {})
         old = float(self.value(template))
         if self.side == "other":
             point = list(_other_point(template, self.item))

@@ -273,6 +273,15 @@ class Targets:
                               "'characteristics'")
 
 
+def characteristic_unit(name: str) -> str:
+    """The unit of a characteristic by a targets file's name (``axle.``, ``right.``
+    prefixes allowed), from the channel table."""
+    base = name.split(".")[-1]
+    table = AXLE_CHARACTERISTICS if name.startswith("axle.") else CHARACTERISTICS
+    c = table.get(base)
+    return "" if c is None else c.unit
+
+
 def target_characteristics(s: Suspension) -> set[str]:
     """The characteristics a targets file may name for ``s``: the config side's wheel's
     (``bump_steer_deg_per_m``), the other wheel's (``right.bump_steer_deg_per_m``) and the

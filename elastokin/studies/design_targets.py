@@ -24,7 +24,7 @@ import numpy as np
 
 from elastokin.config.schema_rig import RigSpec
 from elastokin.config.suspension import Suspension
-from elastokin.formats.targets import Targets
+from elastokin.formats.targets import Targets, characteristic_unit
 from elastokin.rig.channels import CHARACTERISTICS
 from elastokin.rig.sweeps import Sweep, branch_names
 from elastokin.studies.design_runs import DesignRun
@@ -197,7 +197,7 @@ def band(label: str, error: float, half: float, grad: np.ndarray
 
 
 def _characteristic(name, t, value, grad, terms, cons) -> TargetRow:
-    unit = name.rsplit("_", 1)[-1]
+    unit = characteristic_unit(name)
     if t.range is not None:
         lo, hi = t.range
         cons.append(band(name, value - (lo + hi) / 2, (hi - lo) / 2, grad))
