@@ -34,9 +34,14 @@ from elastokin.rig.load_cases import run_load_cases_sides, wheel_compliance
 from elastokin.rig.sweeps import Sweep
 from elastokin.studies.kc_job import ModelResult
 
-#: central-difference step of each kind of variable for dR/dp (its unit): small against any
-#: design change, large against the residual's rounding
-STEPS = {"mm": 1e-3, "-": 1e-5, "N/mm": 1e-4, "N": 1e-2, "mm/rev": 1e-4}
+#: central-difference step of a hardpoint or the rack's position for the twins (mm): small
+#: against any design change (1e-4 of a suspension's lengths: the central differences' error is
+#: 1e-8), large against rounding (the compliance matrix differences states twice)
+POINT_STEP_MM = 1e-2
+#: the step of the other variables, relative to their value: the residual is linear in a
+#: rate, a preload, a scale or a ratio, and a step this size keeps the twins' states clear of
+#: the rounding of the rig's post-processing (the steering axis, from null spaces)
+RELATIVE_STEP = 1e-3
 MODELS = ("initial", "initial_kinematic")
 
 
@@ -63,8 +68,11 @@ class DesignRun:
         return next((sw for sw in sweeps if sw.load_case == load_case), None)
 
 
-def variable_step(v: DesignVariable) -> float:
-    return STEPS[v.unit]
+def variable_step(v: DesignVariable, value: float) -> float:
+    """The twins' step of ``v`` at ``value`` (its unit)."""
+    if v.unit == "mm":
+        return POINT_STEP_MM
+    return RELATIVE_STEP * max(abs(float(value)), 1.0)
 
 
 def flat_summary(summary: dict, prefix: str = "") -> dict[str, float]:
@@ -92,7 +100,7 @@ def run_design(template: Suspension, variables: Sequence[DesignVariable], values
     moved = []
     if derivatives:
         for k, v in enumerate(variables):
-            h = variable_step(v)
+            h = variable_step(v, values[k])
             e = h * np.eye(values.size)[k]
             moved.append((design_suspension(template, variables, values + e),
                            design_suspension(template, variables, values - e), h))
