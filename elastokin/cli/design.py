@@ -58,7 +58,7 @@ def optimize(config_path: Path, targets_path: Path, rig_path: Path | None,
     with WarningLog() as log:
         try:
             output.check()
-            suspension = _nominal(config_path, rig_path)
+            suspension = nominal_suspension(config_path, rig_path)
             with output as tmp, progress_bar(RUNS_EXPECTED, quiet) as progress:
                 result = run_optimize(suspension, targets_path, progress, decimals)
                 progress("writing results")
@@ -104,7 +104,7 @@ def sensitivity(config_path: Path, model: str, rig_path: Path | None, out_dir: P
     with WarningLog() as log:
         try:
             output.check()
-            suspension = _nominal(config_path, rig_path)
+            suspension = nominal_suspension(config_path, rig_path)
             with output as tmp, progress_bar(2, quiet) as progress:
                 tab = sensitivity_table(suspension, model, progress)
                 progress("writing results")
@@ -119,7 +119,7 @@ def sensitivity(config_path: Path, model: str, rig_path: Path | None, out_dir: P
         click.echo(f"Results in {out_dir}/: {', '.join(files)}")
 
 
-def _nominal(config_path: Path, rig_path: Path | None):
+def nominal_suspension(config_path: Path, rig_path: Path | None = None):
     """The config's nominal geometry: its own hardpoints, without its CMM and K&C test data
     (a design study moves the design, not a measured car)."""
     import dataclasses

@@ -70,9 +70,11 @@ def design_state_tangents(suspension: Suspension,
     balanced = balanced_springs(s)
     offsets = [{b.name: np.zeros(3) for b in s.bushings} for _ in variations]
     out = explicit
+    twins: dict = {}  # the balancing twins, built once, their offsets moved for each pass
     for index in sorted(final):
         rec = final[index]
-        d_force, d_loads = _pass_tangents(rec, variations, explicit, offsets, ideal, balanced)
+        d_force, d_loads = _pass_tangents(rec, variations, explicit, offsets, ideal, balanced,
+                                          twins)
         out = []
         for k, (expl, dP) in enumerate(zip(explicit, d_force)):
             springs = dict(expl.spring_force_N)
@@ -101,7 +103,8 @@ def _pads(model: SuspensionModel, supports: dict[str, str]) -> np.ndarray:
                      for name in supports.values()])
 
 
-def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, balanced):
+def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, balanced,
+                   cache: dict):
     """(dP per variable (m,), bushing-load derivatives per variable) of one balancing pass."""
     model = rec.model
     step = (1.0, rec.coordinates, rec.multipliers)
@@ -135,8 +138,14 @@ def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, ba
         res.close()
     d_force, d_loads = [], []
     for k, (plus, minus, h) in enumerate(variations):
-        twins = {sign: _balancing_twin(rec, sus, explicit[k], offsets[k], sign * h, ideal)
-                 for sign, sus in ((1, plus), (-1, minus))}
+        twins = {}
+        for sign, sus in ((1, plus), (-1, minus)):
+            shifted = {b: v + sign * h * offsets[k].get(b, 0.0) for b, v in rec.offsets.items()}
+            if (k, sign) in cache:
+                twins[sign] = cache[k, sign]
+                set_balancing_offsets(twins[sign], shifted)
+            else:
+                twins[sign] = cache[k, sign] = _balancing_twin(rec, sus, shifted, ideal)
         rhs = np.zeros(n + m)
         r, pads = {}, {}
         for sign, twin in twins.items():
@@ -165,17 +174,23 @@ def twin_state(model: SuspensionModel, y: np.ndarray, n2: int) -> None:
     sd.SetTime(1.0, current)
 
 
-def _balancing_twin(rec: BalancingSolve, suspension: Suspension, explicit: DesignState,
-                    d_offsets: dict, shift: float, ideal: bool) -> SuspensionModel:
-    """The balancing model of ``rec`` built for ``suspension`` (the design moved by
-    ``shift`` along one variable): the balanced springs at the same forces, the others and
-    the bushings at the config's own, the stiff springs' offsets moved by ``shift`` times
-    their derivatives."""
+def set_balancing_offsets(model: SuspensionModel, offsets: dict) -> None:
+    """Move a balancing model's stiff rotational springs' offsets (rad) in place."""
+    for name, v in offsets.items():
+        e = model.bushings[name]
+        model.mbs.SetObjectParameter(e["object"], "offset", [0.0, 0.0, 0.0, *map(float, v)])
+        model.balancing_offsets[name] = np.asarray(v, float)
+
+
+def _balancing_twin(rec: BalancingSolve, suspension: Suspension, offsets: dict,
+                    ideal: bool) -> SuspensionModel:
+    """The balancing model of ``rec`` built for ``suspension`` (the design moved along one
+    variable): the balanced springs at the same forces, the others and the bushings at the
+    config's own, the stiff springs at ``offsets``."""
     s = compliant(suspension)
     own = config_preloads(s)
     forces = dict(own.spring_force_N)
     forces.update(zip(balanced_springs(s), (float(v) for v in rec.spring_force_N)))
-    offsets = {b: v + shift * d_offsets.get(b, 0.0) for b, v in rec.offsets.items()}
     twin = SuspensionModel(s, ModelOptions(), DesignState(forces, own.bushing_preload),
                            balancing=ideal, balancing_offsets=offsets,
                            references=rec.model.ref)

@@ -229,8 +229,10 @@ def current_row(model: SuspensionModel) -> dict[str, np.ndarray]:
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
                      ) -> dict[str, np.ndarray]:
     """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
-    6-vector per step."""
+    6-vector per step (bushings whose sensors were not read are left out)."""
     for name in model.bushings:
+        if f"bushing:{name}:d" not in data:
+            continue
         data[f"bushing:{name}:u"] = np.concatenate(
             [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
         data[f"bushing:{name}:load"] = np.concatenate(
@@ -241,7 +243,8 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
 def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
                 applied: dict[str, np.ndarray]) -> ModelState:
     """The model's state from one row of its sensors' values (:func:`recorded`,
-    :func:`current_row`) and the loads applied at that step."""
+    :func:`current_row`) and the loads applied at that step (bushings without values in the
+    row left out)."""
     springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
     # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
@@ -251,6 +254,8 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
         scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
     defl, load = {}, {}
     for name, e in model.bushings.items():
+        if f"bushing:{name}:u" not in row:
+            continue
         u = row[f"bushing:{name}:u"]
         if e.get("ideal") is None:
             u = u + model.initial_deflection[name]

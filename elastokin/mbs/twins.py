@@ -89,8 +89,8 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
                           ) -> list[ModelState]:
     """:func:`~elastokin.mbs.solve.solve_path`; each returned state carries ``design``: one
     :class:`DesignStates` per twin pair (module docstring); ``bushings``: with the bushings'
-    deflections and loads in the twins' states (else NaN: they cost a call into Exudyn per
-    bushing, state and variable). Friction is refused."""
+    deflections and loads in the twins' states (else left out: they cost a call into Exudyn
+    per bushing, state and variable). Friction is refused."""
     if model.friction or model.substeps != 1:
         raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
     recorder = Recorder()
@@ -211,7 +211,7 @@ def state_rows(model: SuspensionModel, res: Residual, times, q: np.ndarray,
     supports' reactions, the springs' and stops' forces computed here, vectorised (the
     definitions of Exudyn's outputs: pose from the Tait-Bryan angles, a support's force its
     multipliers, a spring's force ``k (L - L0)``); the other sensors (bushings, the
-    anti-roll bar) read from Exudyn in each state (the bushings NaN unless ``bushings``)."""
+    anti-roll bar) read from Exudyn in each state (the bushings only with ``bushings``)."""
     mbs = model.mbs
     coords = part_coordinates(model)
     rot = {p: rxyz_matrix(q[:, i[3:]]) for p, i in coords.items()}
@@ -240,10 +240,8 @@ def state_rows(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         m0, m1 = obj["markerNumbers"]
         length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
         data[key] = law(length, obj)[:, None]
-    if not bushings:
-        data.update({k: np.full((q.shape[0], 3), np.nan) for k in model.sensors
-                     if k.startswith("bushing:")})
-    rest = [k for k in model.sensors if k not in data]
+    rest = [k for k in model.sensors if k not in data
+            and (bushings or not k.startswith("bushing:"))]
     if rest:
         current = exu.ConfigurationType.Current
         values = {k: [] for k in rest}

@@ -17,6 +17,8 @@ parameters and evaluated exactly (no tabulation).
 
 from __future__ import annotations
 
+import functools
+
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -82,12 +84,19 @@ class DirectionLaw:
 
     def deflection_at(self, load):
         """Inverse law: deflection (mm or deg) at ``load`` (N or N*mm)."""
-        return DirectionLaw(self.load, self.deflection)(load)
+        return self.inverse(load)
+
+    @functools.cached_property
+    def inverse(self) -> DirectionLaw:
+        """The inverse law, load -> deflection (made once per law)."""
+        return DirectionLaw(self.load, self.deflection)
 
     def scaled(self, factor: float) -> DirectionLaw:
         """The same curve with every load multiplied by ``factor`` (> 0)."""
         if not factor > 0:
             raise ValueError(f"scale factor must be positive, got {factor}")
+        if factor == 1.0:  # the same numbers: no new (validated) curve
+            return self
         return DirectionLaw(self.deflection, tuple(factor * x for x in self.load))
 
     def hinges(self) -> tuple[float, float, list[tuple[float, float]]]:

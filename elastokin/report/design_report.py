@@ -158,6 +158,7 @@ def write_sensitivity_results(tab, suspension, out: Path, svg: bool = False) -> 
                 w.writerow([name, characteristic_unit(name), f"{tab.values[j]:.10g}", rank,
                             v.item, "xyz"[v.axis], f"{e:.10g}"])
     doc = {"model": tab.label, "seconds": tab.seconds,
+           "left_out": [{"coordinate": n, "why": w} for n, w in tab.skipped],
            "characteristics": {name: {"unit": characteristic_unit(name),
                                       "value": float(tab.values[j]),
                                       "effects_per_mm": {v.name: float(tab.effects[i, j])
@@ -177,6 +178,9 @@ def sensitivity_html(tab, prov: dict, charts: list[Path], top: int = 10) -> str:
             f"moved together), from one run with sensitivities ({tab.seconds:.1f} s). The "
             f"{top} largest effects per characteristic; every one in "
             "<code>sensitivity.csv</code>.</p>"]
+    if tab.skipped:
+        body.append(note("Left out (the config does not let them move): " + "; ".join(
+            f"{esc(name)} ({esc(why)})" for name, why in tab.skipped)))
     for j, name in enumerate(tab.characteristics):
         unit = characteristic_unit(name)
         body.append(f"<h2>{esc(name)} = {tab.values[j]:.5g} {esc(unit)}</h2>" + table(

@@ -16,9 +16,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.config.design_variables import DesignVariable
+from elastokin.config.design_variables import DesignVariable, design_suspension
 from elastokin.config.frozen import plain_data
 from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
 from elastokin.studies.design_runs import DesignRun, run_design
 
 #: the characteristics of the table, in this order (those a model gives: an axle's, with
@@ -38,7 +39,7 @@ TABLE_LOAD_CASES = ("parallel_travel", "vertical_force", "roll_vertical_force", 
 class SensitivityTable:
     """Effects (per mm) of every hardpoint coordinate on each characteristic: ``effects``
     (variables, characteristics), the model's values of the characteristics, the model
-    label, model runs and time."""
+    label, time, and the coordinates left out."""
 
     variables: list[DesignVariable]
     characteristics: list[str]
@@ -47,6 +48,8 @@ class SensitivityTable:
     label: str
     seconds: float = 0.0
     run: DesignRun | None = field(default=None, repr=False)
+    #: coordinates the config does not let move: (name, why)
+    skipped: list[tuple[str, str]] = field(default_factory=list)
 
     def ranked(self, characteristic: str) -> list[tuple[DesignVariable, float]]:
         """The variables by the size of their effect on ``characteristic``, largest first."""
@@ -77,10 +80,22 @@ def used_hardpoints(suspension: Suspension) -> list[str]:
     return [n for n in raw["hardpoints"] if n in used]
 
 
-def hardpoint_variables(suspension: Suspension) -> list[DesignVariable]:
-    """Every coordinate of every used hardpoint as a design variable (both sides)."""
-    return [DesignVariable("hardpoint", name, axis) for name in used_hardpoints(suspension)
-            for axis in range(3)]
+def hardpoint_variables(suspension: Suspension
+                        ) -> tuple[list[DesignVariable], list[tuple[str, str]]]:
+    """Every coordinate of every used hardpoint as a design variable (both sides), and the
+    coordinates the config does not let move, with the reason (e.g. the anti-roll bar's
+    centre off the vehicle's centre plane)."""
+    out, skipped = [], []
+    for name in used_hardpoints(suspension):
+        for axis in range(3):
+            v = DesignVariable("hardpoint", name, axis)
+            try:
+                design_suspension(suspension, [v], [v.value(suspension.raw) + 0.01])
+            except ConfigError as exc:
+                skipped.append((v.name, str(exc)))
+                continue
+            out.append(v)
+    return out, skipped
 
 
 def sensitivity_table(suspension: Suspension, label: str = "initial",
@@ -89,7 +104,7 @@ def sensitivity_table(suspension: Suspension, label: str = "initial",
     """The table of ``suspension``'s model ``label`` (``initial`` or ``initial_kinematic``)
     on the load cases of its rig that the characteristics need."""
     t0 = time.perf_counter()
-    variables = hardpoint_variables(suspension)
+    variables, skipped = hardpoint_variables(suspension)
     rig = suspension.rig
     rig = rig.model_copy(update={name: None for name in type(rig).model_fields
                                  if name != "parallel_travel" and name not in TABLE_LOAD_CASES})
@@ -103,4 +118,4 @@ def sensitivity_table(suspension: Suspension, label: str = "initial",
     effects = np.column_stack([tangents[c] for c in names]) if names else \
         np.zeros((len(variables), 0))
     return SensitivityTable(variables, names, np.array([summary[c] for c in names]), effects,
-                            label, time.perf_counter() - t0, run)
+                            label, time.perf_counter() - t0, run, skipped)
