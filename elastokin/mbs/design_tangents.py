@@ -31,7 +31,12 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, compliant
 from elastokin.mbs.bushings import BALANCING_ROTATION
-from elastokin.mbs.design import BalancingSolve, balanced_springs, design_state, hold_contact_patches
+from elastokin.mbs.design import (
+    BalancingSolve,
+    balanced_springs,
+    design_state,
+    hold_contact_patches,
+)
 from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel

@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.errors import ModelError
-from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.sensitivity import (
     Recorder,
     Residual,

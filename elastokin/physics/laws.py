@@ -18,7 +18,6 @@ parameters and evaluated exactly (no tabulation).
 from __future__ import annotations
 
 import functools
-
 from collections.abc import Mapping
 from dataclasses import dataclass
 

@@ -91,7 +91,7 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
                                      m.suspension, per_sign[sign], rows)
                  for sign, m in pair.models()}
         for side in s.sides:
-            for name, value in columns[side].items():
+            for name in columns[side]:
                 if name == "branch" or name not in moved[1][side]:
                     continue
                 t = tangents[side].setdefault(name, np.zeros((len(steps), len(twins))))
