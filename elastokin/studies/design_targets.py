@@ -246,7 +246,7 @@ def _link(run: DesignRun, name: str, lk, cons, derivatives: bool) -> TargetRow:
     lo, hi = lk.range_mm
     cons.append(band(f"link {name} length", value - (lo + hi) / 2, (hi - lo) / 2, grad))
     miss = max(0.0, lo - value, value - hi)
-    return TargetRow(f"link {name}", "link length", value, f"in [{lo:g}, {hi:g}] mm",
+    return TargetRow(f"link {name}", "link length", value, f"in [{lo:g}, {hi:g}]",
                      miss == 0.0, miss, "mm")
 
 
