@@ -40,6 +40,13 @@ def simulation_settings(model: SuspensionModel, steps: int):
     st.newton.absoluteTolerance = ABSOLUTE_TOLERANCE
     st.newton.maxIterations = sv.max_newton_iterations
     ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
+    # work Exudyn does for nothing here (issue 28, item 6; the Newton iterates, hence every
+    # result, bit for bit the same): more than one pass of the discontinuous iteration (no
+    # item of a frictionless model acts after a Newton step). (The loads' Jacobian is not
+    # nothing: a force at a point of a turning part has one; leaving it out changed the force
+    # cases at 1e-7.)
+    if not model.friction:
+        st.discontinuous.maxIterations = 1
     return ss
 
 
@@ -268,3 +275,36 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars)
+
+
+def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
+                 applied: dict[str, np.ndarray]) -> dict[str, object]:
+    """:func:`model_state` over many steps at once: from sensor values (steps, k) (bushings
+    combined, :func:`combined_sensors`) and the loads applied (steps, 3), the fields of a
+    :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
+    part (rotation (n, 3, 3), displacement (n, 3)))."""
+    scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    if model.anti_roll_bar is not None:
+        scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
+        scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]
+    defl, load = {}, {}
+    for name, e in model.bushings.items():
+        if f"bushing:{name}:u" not in data:
+            continue
+        u = data[f"bushing:{name}:u"]
+        if e.get("ideal") is None:
+            defl[name], load[name] = u + model.initial_deflection[name], \
+                data[f"bushing:{name}:load"]
+        else:
+            defl[name], load[name] = u, np.full(u.shape, np.nan)
+    return {
+        "spring_force_N": {n: -data[f"spring:{n}"][:, 0] for n in model.springs},
+        "bushing_deflection": defl, "bushing_load": load, "scalars": scalars,
+        "poses": {n: (data[f"part:{n}:R"].reshape(-1, 3, 3), data[f"part:{n}:disp"])
+                  for n in model.pose_refs},
+        "reference_mm": model.pose_refs,
+        "support_force_N": {n: data[f"support:{n}"] for n in model.supports},
+        "points": {k.removeprefix("point:"): v for k, v in data.items()
+                   if k.startswith("point:")},
+        "applied": applied,
+    }

@@ -41,7 +41,7 @@ from elastokin.mbs.sensitivity import (
     solve_tangents,
     system_matrices,
 )
-from elastokin.mbs.solve import combined_sensors, model_state, solve_path
+from elastokin.mbs.solve import combined_sensors, solve_path, state_arrays
 from elastokin.physics.states import ModelState
 
 
@@ -62,13 +62,13 @@ class TwinPair:
 
 
 @dataclass(frozen=True)
-class DesignStates:
-    """A step's states on the twins of one design variable: ``plus`` at ``y + step dy/dp``
-    on the model at ``p + step``, ``minus`` likewise; a quantity q computed from them has
-    ``dq/dp = (q(plus) - q(minus)) / (2 step)``."""
+class DesignArrays:
+    """A solve's states on the twins of one design variable, as arrays over the steps
+    (:func:`~elastokin.mbs.solve.state_arrays`): by sign, ``+1`` at ``y + step dy/dp`` on
+    the model at ``p + step``, ``-1`` likewise; a quantity q computed from them has
+    ``dq/dp = (q(+1) - q(-1)) / (2 step)``."""
 
-    plus: ModelState
-    minus: ModelState
+    states: dict[int, dict[str, object]]
     step: float
 
 
@@ -86,11 +86,11 @@ def twin_model(model: SuspensionModel, suspension, preloads) -> SuspensionModel:
 
 def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarray],
                           what: str, twins: Sequence[TwinPair], bushings: bool = True
-                          ) -> list[ModelState]:
-    """:func:`~elastokin.mbs.solve.solve_path`; each returned state carries ``design``: one
-    :class:`DesignStates` per twin pair (module docstring); ``bushings``: with the bushings'
-    deflections and loads in the twins' states (else left out: they cost a call into Exudyn
-    per bushing, state and variable). Friction is refused."""
+                          ) -> tuple[list[ModelState], list[DesignArrays]]:
+    """:func:`~elastokin.mbs.solve.solve_path`, and per twin pair the states on its twins
+    (:class:`DesignArrays`, module docstring); ``bushings``: with the bushings' deflections
+    and loads in the twins' states (else left out: they cost a call into Exudyn per bushing,
+    state and variable). Friction is refused."""
     if model.friction or model.substeps != 1:
         raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
     recorder = Recorder()
@@ -100,7 +100,7 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
     finally:
         model.mbs.SetPostStepUserFunction(0)
     if not twins:
-        return states
+        return states, []
     n = len(states)
     steps = recorder.at(np.linspace(0.0, 1.0, n + 1)[1:])
     res = Residual(model, n, what)
@@ -117,16 +117,13 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
                  for sign, (feed, res_k) in prepared[k].items()}
             B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
         dy = solve_tangents(A, B)
-        per_twin = [_twin_states(tw, prepared[k], steps, dy[:, :, k], bushings)
-                    for k, tw in enumerate(twins)]
+        design = [DesignArrays(_twin_states(tw, prepared[k], steps, dy[:, :, k], bushings),
+                               tw.step) for k, tw in enumerate(twins)]
     finally:
         for both in prepared:
             for _, res_k in both.values():
                 res_k.close()
-    for i, state in enumerate(states):
-        state.design = [DesignStates(plus[i], minus[i], tw.step)
-                        for tw, (plus, minus) in zip(twins, per_twin)]
-    return states
+    return states, design
 
 
 class StepInputs:
@@ -185,9 +182,10 @@ def _residuals(res: Residual, feed: StepInputs, steps) -> np.ndarray:
 
 
 def _twin_states(tw: TwinPair, prepared, steps, dy: np.ndarray, bushings: bool
-                 ) -> tuple[list[ModelState], list[ModelState]]:
-    """Each twin's states at the steps moved by ``+-step * dy`` (n_steps, N)."""
-    out = []
+                 ) -> dict[int, dict[str, object]]:
+    """Each twin's states (:func:`~elastokin.mbs.solve.state_arrays`) at the steps moved by
+    ``+-step * dy`` (n_steps, N), by sign."""
+    out = {}
     q0 = np.array([q for _, q, _ in steps])
     lam0 = np.array([lam for _, _, lam in steps])
     times = [t for t, _, _ in steps]
@@ -196,19 +194,18 @@ def _twin_states(tw: TwinPair, prepared, steps, dy: np.ndarray, bushings: bool
         n2 = res.n2
         q = q0 + sign * tw.step * dy[:, :n2]
         lam = lam0 + sign * tw.step * dy[:, n2:]
-        rows = state_rows(twin, res, times, q, lam, bushings, feed)
-        applied = feed.applied
-        out.append([model_state(twin, row, {k: v[i] for k, v in applied.items()})
-                    for i, row in enumerate(rows)])
-    return out[0], out[1]
+        out[sign] = state_arrays(twin, sensor_arrays(twin, res, times, q, lam, bushings,
+                                                     feed), feed.applied)
+    return out
 
 
-def state_rows(model: SuspensionModel, res: Residual, times, q: np.ndarray,
-               lam: np.ndarray, bushings: bool = True, feed: StepInputs | None = None
-               ) -> list[dict[str, np.ndarray]]:
-    """The model's sensor rows (as :func:`~elastokin.mbs.solve.recorded` gives them) at the
-    states ``q`` (n, n2), ``lam`` (n, n_ae): the parts' poses, the point sensors, the
-    supports' reactions, the springs' and stops' forces computed here, vectorised (the
+def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
+                  lam: np.ndarray, bushings: bool = True, feed: StepInputs | None = None
+                  ) -> dict[str, np.ndarray]:
+    """The model's sensor values (steps, k) (as :func:`~elastokin.mbs.solve.recorded` reads
+    them, bushings combined) at the states ``q`` (n, n2), ``lam`` (n, n_ae): the parts'
+    poses, the point sensors, the supports' reactions, the springs' and stops' forces computed
+    here, vectorised (the
     definitions of Exudyn's outputs: pose from the Tait-Bryan angles, a support's force its
     multipliers, a spring's force ``k (L - L0)``); the other sensors (bushings, the
     anti-roll bar) read from Exudyn in each state (the bushings only with ``bushings``)."""
@@ -252,8 +249,7 @@ def state_rows(model: SuspensionModel, res: Residual, times, q: np.ndarray,
             for k in rest:
                 values[k].append(np.atleast_1d(mbs.GetSensorValues(model.sensors[k], current)))
         data.update({k: np.array(v, float) for k, v in values.items()})
-    combined = combined_sensors(data, model)
-    return [{k: v[i] for k, v in combined.items()} for i in range(q.shape[0])]
+    return combined_sensors(data, model)
 
 
 def _line_forces(model: SuspensionModel):

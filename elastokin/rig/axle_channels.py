@@ -13,7 +13,7 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.physics.axle_sweeps import roll_angle_deg, roll_moment_Nmm, track_mm
 from elastokin.physics.instant_centres import kinematic_roll_centre
-from elastokin.physics.states import StepState
+from elastokin.physics.states import StepState, WheelArrays
 
 
 def iso_rotation(suspension: Suspension) -> np.ndarray:
@@ -30,7 +30,8 @@ def design_track_mm(suspension: Suspension) -> float:
     return abs(float(track_mm(patch["left"], patch["right"])))
 
 
-def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, drive
+def axle_columns(by_side: dict[str, list[StepState] | WheelArrays], suspension: Suspension,
+                 drive
                  ) -> dict[str, np.ndarray]:
     """The axle's columns of one load case (the same in every wheel's sweep):
     ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
@@ -39,22 +40,20 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
     ``roll_centre_lateral_mm`` (ISO y, + left)."""
     s = suspension
     T = iso_rotation(s)
-    patch = {side: np.array([st.contact_patch_mm for st in by_side[side]]) @ T.T
-             for side in ("left", "right")}
-    centre = {side: np.array([st.wheel_centre_mm for st in by_side[side]]) @ T.T
-              for side in ("left", "right")}
+    wheel = {side: WheelArrays.of(by_side[side]) for side in ("left", "right")}
+    patch = {side: a.contact_patch_mm @ T.T for side, a in wheel.items()}
+    centre = {side: a.wheel_centre_mm @ T.T for side, a in wheel.items()}
     design_centre = {side: T @ s.wheels[side].centre_mm for side in ("left", "right")}
     travel = {side: centre[side][:, 2] - design_centre[side][2] for side in centre}
     track = design_track_mm(s)
-    fz = {side: np.array([(T @ st.pad_force_N)[2] for st in by_side[side]])
-          for side in ("left", "right")}
+    fz = {side: np.array([(T @ f)[2] for f in a.pad_force_N]) for side, a in wheel.items()}
     cols = {"roll_angle_deg": roll_angle_deg(travel["left"], travel["right"], track),
             "roll_moment_Nmm": roll_moment_Nmm(fz["left"], fz["right"], patch["left"][:, 1],
                                                patch["right"][:, 1])}
-    first = by_side[s.side]
-    if "arb:twist_deg" in first[0].scalars:
-        cols["arb_twist_deg"] = np.array([st.scalars["arb:twist_deg"] for st in first])
-        cols["arb_torque_Nmm"] = np.array([st.scalars["arb:torque_Nmm"] for st in first])
+    first = wheel[s.side]
+    if "arb:twist_deg" in first.scalars:
+        cols["arb_twist_deg"] = first.scalars["arb:twist_deg"]
+        cols["arb_torque_Nmm"] = first.scalars["arb:torque_Nmm"]
     if drive.load_case == "parallel_travel":
         cols.update(roll_centre_columns(patch, np.asarray(drive.branch)))
     return cols

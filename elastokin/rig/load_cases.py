@@ -25,6 +25,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
+from elastokin.physics.states import StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
@@ -51,7 +52,6 @@ __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive"
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
-    from elastokin.physics.states import StepState
 
 
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
@@ -80,14 +80,16 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
                     variations=variations, twins=rig_twins, bushings=detail == "full")
     keep = drive.recorded
+    design = steps.design
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
-    columns = sweep_columns(steps, s, drive)
+    columns = sweep_columns({side: [st[side] for st in steps] for side in s.sides}, s, drive)
     rows = None if detail == "full" else static_rows(columns[s.side])
     tangents = {side: {} for side in s.sides}
     for k, (pair, per_sign) in enumerate(twins):
-        moved = {sign: sweep_columns([{side: st[side].design[k][0 if sign > 0 else 1]
-                                       for side in st} for st in steps],
+        states, _ = design[k]
+        moved = {sign: sweep_columns({side: a if keep is None else a.rows(keep)
+                                      for side, a in states[sign].items()},
                                      m.suspension, per_sign[sign], rows)
                  for sign, m in pair.models()}
         for side in s.sides:
@@ -105,11 +107,12 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     return sweeps
 
 
-def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive,
+def sweep_columns(by_side: dict, suspension, drive: Drive,
                   steering_rows: np.ndarray | None = None) -> dict[str, dict[str, np.ndarray]]:
     """Every column of each wheel's sweep (by side) from the recorded rig steps of
-    ``drive`` (its ``recorded`` selection applied; ``steering_rows``: see
-    :func:`~elastokin.rig.characteristics.characteristics`)."""
+    ``drive`` by side (lists of :class:`~elastokin.physics.states.StepState` or
+    :class:`~elastokin.physics.states.WheelArrays`; its ``recorded`` selection applied;
+    ``steering_rows``: see :func:`~elastokin.rig.characteristics.characteristics`)."""
     s = suspension
     keep = drive.recorded
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
@@ -117,7 +120,6 @@ def sweep_columns(steps: list[dict[str, StepState]], suspension, drive: Drive,
     if keep is not None:
         cols = {k: v[keep] for k, v in cols.items()}
         own = {k: v[keep] for k, v in own.items()}
-    by_side = {side: [st[side] for st in steps] for side in s.sides}
     shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
     out = {}
     for side in s.sides:
@@ -234,16 +236,16 @@ def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
     pairs = [(pair, {sign: (_compliance_loads(m.suspension, force_step_N, torque_step_Nmm),
                             None, None) for sign, m in pair.models()}) for pair in twins or ()]
     states = run_rig(model, loads, what="compliance matrix", twins=pairs)
-    C = compliance_from_states(states, s, force_step_N, torque_step_Nmm)
+    C = compliance_from_states({side: [st[side] for st in states] for side in s.sides}, s,
+                               force_step_N, torque_step_Nmm)
     if twins is None:
         return C
     dC = np.zeros((*C.shape, len(pairs)))
     for k, (pair, _) in enumerate(pairs):
-        moved = [compliance_from_states([{side: st[side].design[k][i] for side in st}
-                                         for st in states], m.suspension, force_step_N,
-                                        torque_step_Nmm)
-                 for i, (_, m) in enumerate(pair.models())]
-        dC[:, :, k] = (moved[0] - moved[1]) / (2.0 * pair.step)
+        moved, step = states.design[k]
+        plus, minus = (compliance_from_states(moved[sign], m.suspension, force_step_N,
+                                              torque_step_Nmm) for sign, m in pair.models())
+        dC[:, :, k] = (plus - minus) / (2.0 * step)
     return C, dC
 
 
@@ -262,27 +264,30 @@ def _compliance_loads(s, force_step_N: float, torque_step_Nmm: float) -> dict:
             for i, side in enumerate(s.sides)}
 
 
-def compliance_from_states(states: list, suspension, force_step_N: float = 10.0,
+def compliance_from_states(by_side: dict, suspension, force_step_N: float = 10.0,
                            torque_step_Nmm: float = 1000.0) -> np.ndarray:
-    """The compliance matrix (:func:`wheel_compliance`) from the rig steps of its inputs."""
+    """The compliance matrix (:func:`wheel_compliance`) from the rig steps of its inputs, by
+    side (lists of :class:`~elastokin.physics.states.StepState` or their
+    :class:`~elastokin.physics.states.WheelArrays`)."""
     from scipy.spatial.transform import Rotation
 
     s = suspension
     n = len(s.sides)
-    base = states[0]
+    wheel = {side: WheelArrays.of(by_side[side]) for side in s.sides}
 
-    def response(st):
+    def response(i):
         out = []
         for side in s.sides:
-            R0, x0 = base[side].wheel_rotation, base[side].wheel_centre_mm
-            rot = Rotation.from_matrix(st[side].wheel_rotation @ R0.T).as_rotvec(degrees=True)
-            out.append(np.r_[st[side].wheel_centre_mm - x0, rot])
+            a = wheel[side]
+            R0, x0 = a.wheel_rotation[0], a.wheel_centre_mm[0]
+            rot = Rotation.from_matrix(a.wheel_rotation[i] @ R0.T).as_rotvec(degrees=True)
+            out.append(np.r_[a.wheel_centre_mm[i] - x0, rot])
         return np.concatenate(out)
 
     C = np.empty((6 * n, 6 * n))
     for k in range(6 * n):
         h = force_step_N if k % 6 < 3 else torque_step_Nmm
-        C[:, k] = (response(states[1 + 2 * k]) - response(states[2 + 2 * k])) / (2 * h)
+        C[:, k] = (response(1 + 2 * k) - response(2 + 2 * k)) / (2 * h)
     return C
 
 

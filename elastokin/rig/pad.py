@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elastokin.errors import ModelError
-from elastokin.physics.states import ModelState, StepState
+from elastokin.physics.states import ModelState, StepState, WheelArrays
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
@@ -98,9 +98,9 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     twins: design sensitivities: per design variable a pair of twin models
         (:class:`~elastokin.mbs.twins.TwinPair`) and, by sign (+1, -1), the arguments
         ``(wheels, rack_travel_mm, heave_load_N)`` of the same load case on that twin's
-        suspension; every wheel state then carries ``design``: per variable its states on
-        the twins (``(plus, minus, step)``); ``bushings``: with the bushings' deflections on
-        the twins (:func:`~elastokin.mbs.twins.solve_path_with_twins`).
+        suspension; the returned :class:`RigSteps` then carry ``design``, the wheels' states
+        on the twins; ``bushings``: with the bushings' deflections on the twins
+        (:func:`~elastokin.mbs.twins.solve_path_with_twins`).
     """
     from elastokin.mbs.sensitivity import solve_path_with_sensitivities
     from elastokin.mbs.solve import solve_path
@@ -119,10 +119,11 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     heaving = [model, *(m for pair, _ in twins for _, m in pair.models())] if roll else []
     for m in heaving:
         m.set_support_axes(HEAVE, HEAVING)
+    design = []
     try:
         if twins:
-            states = solve_path_with_twins(model, inputs, what, [p for p, _ in twins],
-                                           bushings)
+            states, design = solve_path_with_twins(model, inputs, what, [p for p, _ in twins],
+                                                   bushings)
         elif variations:
             states = solve_path_with_sensitivities(model, inputs, what, variations)
         else:
@@ -132,19 +133,38 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     finally:
         for m in heaving:
             m.set_support_axes(HEAVE, HELD)
-    out = []
-    for st in states:
-        step = {}
-        for side, wi in wheels.items():
-            control = wi.pad_z_mm is not None
-            step[side] = wheel_state(model, st, side, control, roll)
-            if st.design is not None:
-                step[side].design = [
-                    (wheel_state(pair.plus, d.plus, side, control, roll),
-                     wheel_state(pair.minus, d.minus, side, control, roll), d.step)
-                    for (pair, _), d in zip(twins, st.design)]
-        out.append(step)
+    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
+                    for side, wi in wheels.items()} for st in states)
+    out.design = [({sign: {side: wheel_arrays(m, d.states[sign], side,
+                                              wheels[side].pad_z_mm is not None, roll)
+                           for side in wheels} for sign, m in pair.models()}, d.step)
+                  for (pair, _), d in zip(twins, design)]
     return out
+
+
+class RigSteps(list):
+    """The rig's steps (a list: per step the wheel states by side) and, solved with design
+    sensitivities, ``design``: per design variable ``({sign: {side: WheelArrays}}, step)``,
+    the wheels' states on its twins (:func:`wheel_arrays`)."""
+
+    design: list = []
+
+
+def wheel_arrays(model: SuspensionModel, state: dict, side: str, displacement_control: bool,
+                 roll: bool = False) -> WheelArrays:
+    """:func:`wheel_state` over many steps: the wheel on ``side`` from a model's states as
+    arrays (:func:`~elastokin.mbs.solve.state_arrays`)."""
+    w = model.suspension.wheels[side]
+    n = names(side)
+    R = state["poses"][w.part][0]
+    pad = np.array(state["applied"][n["patch_force"]], float)
+    if displacement_control:
+        pad[:, 2] += state["support_force_N"][n["roll_pad" if roll else "pad"]][:, 2]
+    return WheelArrays(state["points"][n["centre"]], R @ w.spin_axis, R,
+                       state["points"][n["patch"]], pad, state["spring_force_N"],
+                       state["bushing_deflection"], state["bushing_load"], state["scalars"],
+                       state["poses"] if model.options.part_poses else None,
+                       state["reference_mm"])
 
 
 def rig_inputs(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
