@@ -197,9 +197,21 @@ class ProgressiveLaw:
 
 def law_from_spec(spec) -> DirectionLaw:
     """A law from a config entry: a positive number (rate), or ``deflection`` and ``load``
-    lists (an object's attributes, or a mapping's keys as in a config dict)."""
+    lists (an object's attributes, or a mapping's keys as in a config dict). Laws are
+    immutable: one made from the same numbers before is returned again (a config resolved
+    again for every design variable makes the same laws)."""
     if isinstance(spec, (int, float)):
-        return DirectionLaw.linear(float(spec))
+        return _linear(float(spec))
     if isinstance(spec, Mapping):
-        return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
-    return DirectionLaw(tuple(spec.deflection), tuple(spec.load))
+        return _curve(tuple(spec["deflection"]), tuple(spec["load"]))
+    return _curve(tuple(spec.deflection), tuple(spec.load))
+
+
+@functools.lru_cache(maxsize=4096)
+def _linear(rate: float) -> DirectionLaw:
+    return DirectionLaw.linear(rate)
+
+
+@functools.lru_cache(maxsize=4096)
+def _curve(deflection: tuple, load: tuple) -> DirectionLaw:
+    return DirectionLaw(deflection, load)
