@@ -53,22 +53,15 @@ def optimize(config_path: Path, targets_path: Path, rig_path: Path | None,
     from elastokin.report.text import design_table
     from elastokin.studies.design_job import run_optimize
 
+    def work(suspension, tmp, progress):
+        result = run_optimize(suspension, targets_path, progress, decimals)
+        progress("writing results")
+        return result, write_design_results(result, suspension, config_path, targets_path,
+                                            tmp, svg, decimals)
+
     out_dir = out_dir or Path("results") / f"{config_path.stem}_optimised"
-    output = Output(out_dir, marker="design.json")
-    with WarningLog() as log:
-        try:
-            output.check()
-            suspension = nominal_suspension(config_path, rig_path)
-            with output as tmp, progress_bar(RUNS_EXPECTED, quiet) as progress:
-                result = run_optimize(suspension, targets_path, progress, decimals)
-                progress("writing results")
-                files = write_design_results(result, suspension, config_path, targets_path,
-                                             tmp, svg, decimals)
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
-    log.echo()
+    result, files = _study(out_dir, "design.json", config_path, rig_path, RUNS_EXPECTED,
+                           quiet, work)
     if not quiet:
         click.echo(design_table(result))
         click.echo(f"Results in {out_dir}/: {', '.join(files)}")
@@ -99,24 +92,36 @@ def sensitivity(config_path: Path, model: str, rig_path: Path | None, out_dir: P
     from elastokin.report.text import sensitivity_text
     from elastokin.studies.sensitivity_table import sensitivity_table
 
+    def work(suspension, tmp, progress):
+        tab = sensitivity_table(suspension, model, progress)
+        progress("writing results")
+        return tab, write_sensitivity_results(tab, suspension, tmp, svg)
+
     out_dir = out_dir or Path("results") / f"{config_path.stem}_sensitivity"
-    output = Output(out_dir, marker="sensitivity.json")
+    tab, files = _study(out_dir, "sensitivity.json", config_path, rig_path, 2, quiet, work)
+    if not quiet:
+        click.echo(sensitivity_text(tab))
+        click.echo(f"Results in {out_dir}/: {', '.join(files)}")
+
+
+def _study(out_dir: Path, marker: str, config_path: Path, rig_path: Path | None,
+           stages: int, quiet: bool, work):
+    """Run ``work(suspension, folder, progress)`` on the config's nominal geometry into
+    ``out_dir`` (checked before anything is computed, replaced only when the run
+    succeeds); errors as one line; the run's warnings printed once each."""
+    output = Output(out_dir, marker=marker)
     with WarningLog() as log:
         try:
             output.check()
             suspension = nominal_suspension(config_path, rig_path)
-            with output as tmp, progress_bar(2, quiet) as progress:
-                tab = sensitivity_table(suspension, model, progress)
-                progress("writing results")
-                files = write_sensitivity_results(tab, suspension, tmp, svg)
+            with output as tmp, progress_bar(stages, quiet) as progress:
+                out = work(suspension, tmp, progress)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
     log.echo()
-    if not quiet:
-        click.echo(sensitivity_text(tab))
-        click.echo(f"Results in {out_dir}/: {', '.join(files)}")
+    return out
 
 
 def nominal_suspension(config_path: Path, rig_path: Path | None = None):

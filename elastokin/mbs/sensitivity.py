@@ -162,6 +162,21 @@ def solve_path_with_sensitivities(model: SuspensionModel, inputs: Mapping[str, n
     """:func:`~elastokin.mbs.solve.solve_path`, each returned state carrying its
     ``sensitivity`` with respect to each of ``variations`` (module docstring). The model's
     parametric bushings are at their current laws (the point p). Friction is refused."""
+    states, steps = recorded_solve(model, inputs, what)
+    if not variations:
+        return states
+    dy = _step_sensitivities(model, steps, variations, what)
+    n2 = model.mbs.systemData.ODE2Size()
+    q = np.array([step[1] for step in steps])
+    for state, out in zip(states, _outputs(model, q, dy[:, :n2])):
+        state.sensitivity = out
+    return states
+
+
+def recorded_solve(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: str
+                   ) -> tuple[list[ModelState], list[tuple[float, np.ndarray, np.ndarray]]]:
+    """:func:`~elastokin.mbs.solve.solve_path` and every returned step's converged (time,
+    coordinates, multipliers), for sensitivities; a model with friction is refused."""
     if model.friction or model.substeps != 1:
         raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
     recorder = Recorder()
@@ -170,16 +185,7 @@ def solve_path_with_sensitivities(model: SuspensionModel, inputs: Mapping[str, n
         states = solve_path(model, inputs, what)
     finally:
         model.mbs.SetPostStepUserFunction(0)
-    if not variations:
-        return states
-    n = len(states)
-    steps = recorder.at(np.linspace(0.0, 1.0, n + 1)[1:])
-    dy = _step_sensitivities(model, steps, variations, what)
-    n2 = model.mbs.systemData.ODE2Size()
-    q = np.array([step[1] for step in steps])
-    for state, out in zip(states, _outputs(model, q, dy[:, :n2])):
-        state.sensitivity = out
-    return states
+    return states, recorder.at(np.linspace(0.0, 1.0, len(states) + 1)[1:])
 
 
 def _outputs(model, q: np.ndarray, dq: np.ndarray) -> list[StateSensitivity]:

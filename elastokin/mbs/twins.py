@@ -30,18 +30,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.sensitivity import (
-    Recorder,
     Residual,
     part_coordinates,
+    recorded_solve,
     rxyz_matrix,
     solve_tangents,
     system_matrices,
 )
-from elastokin.mbs.solve import combined_sensors, solve_path, state_arrays
+from elastokin.mbs.solve import combined_sensors, state_arrays
 from elastokin.physics.states import ModelState
 
 
@@ -91,18 +90,10 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
     (:class:`DesignArrays`, module docstring); ``bushings``: with the bushings' deflections
     and loads in the twins' states (else left out: they cost a call into Exudyn per bushing,
     state and variable). Friction is refused."""
-    if model.friction or model.substeps != 1:
-        raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
-    recorder = Recorder()
-    model.mbs.SetPostStepUserFunction(recorder)
-    try:
-        states = solve_path(model, inputs, what)
-    finally:
-        model.mbs.SetPostStepUserFunction(0)
+    states, steps = recorded_solve(model, inputs, what)
     if not twins:
         return states, []
     n = len(states)
-    steps = recorder.at(np.linspace(0.0, 1.0, n + 1)[1:])
     res = Residual(model, n, what)
     try:
         A, _ = system_matrices(res, steps)

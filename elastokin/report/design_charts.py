@@ -81,7 +81,7 @@ def history_chart(history, out_dir: Path, provenance: dict, svg: bool) -> list[P
     ax.semilogy(runs, [max(h.objective / f0, 1e-16) for h in history], "o-",
                 label="objective / start")
     ax.semilogy(runs, [max(h.violation, 1e-16) for h in history], "s--",
-                label="largest constraint violation")
+                label="largest constraint violation (none: drawn at 1e-16)")
     ax.set_xlabel("model run (with derivatives)")
     ax.set_ylabel("[-] (log)")
     ax.grid(True, alpha=0.3)

@@ -94,8 +94,16 @@ def _model_curve(run, label, spec):
     return x[keep], y[keep]
 
 
+def _footer(prov: dict) -> dict:
+    """The provenance for a chart's footer: the files by name (the full paths are in
+    design.json and the report)."""
+    return {**prov, "config_file": Path(prov["config_file"]).name,
+            "rig_file": prov.get("rig_file") and Path(prov["rig_file"]).name}
+
+
 def design_charts_of(result, out: Path, prov: dict, svg: bool) -> list[Path]:
     spec, label = result.targets.spec, result.label
+    prov = _footer(prov)
     paths = []
     for name, c in spec.curves.items():
         paths += design_charts.curve_chart(name, c, _model_curve(result.start, label, c),
@@ -166,7 +174,7 @@ def write_sensitivity_results(tab, suspension, out: Path, svg: bool = False) -> 
                                for j, name in enumerate(tab.characteristics)},
            "provenance": {**prov, "solver": tab.run.models[tab.label].solver}}
     (out / "sensitivity.json").write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    charts = design_charts.effects_chart(tab, out, prov, svg)[:1]
+    charts = design_charts.effects_chart(tab, out, _footer(prov), svg)[:1]
     (out / "report.html").write_text(sensitivity_html(tab, prov, charts), encoding="utf-8")
     return ["sensitivity.csv", "sensitivity.json", *(p.name for p in charts), "report.html"]
 

@@ -24,7 +24,12 @@ from elastokin.config.suspension import Suspension
 from elastokin.errors import ElastokinError, SolverError
 from elastokin.formats.targets import Targets, load_targets
 from elastokin.studies.design_runs import DesignRun, run_design
-from elastokin.studies.design_targets import TargetValues, target_rig, target_values
+from elastokin.studies.design_targets import (
+    TargetValues,
+    needs_compliance,
+    target_rig,
+    target_values,
+)
 
 Progress = Callable[[str], None]
 #: a scaled variable within this of a bound counts as at the bound
@@ -91,7 +96,7 @@ class _Evaluator:
                           + ", ".join(f"{v.name}={xi:.4f}" for v, xi in
                                       zip(self.targets.variables, x)))
             run = run_design(self.template, self.targets.variables, x, (self.label,),
-                             self.rig)
+                             self.rig, compliance=needs_compliance(self.targets))
             values = target_values(run, self.targets, self.label)
             self.kept[key] = (run, values)
             self.history.append(Iteration(len(self.history) + 1, x.tolist(),
@@ -198,7 +203,8 @@ def verify(result: DesignResult, suspension: Suspension, decimals: int) -> Desig
     (``decimals``), on the targets' load cases; the report's figures are this run's."""
     x = np.round(result.best.values, decimals)
     run = run_design(suspension, result.variables, x, (result.label,),
-                     target_rig(suspension, result.targets), derivatives=False)
+                     target_rig(suspension, result.targets), derivatives=False,
+                     compliance=needs_compliance(result.targets))
     result.best = run
     result.best_values = target_values(run, result.targets, result.label, derivatives=False)
     result.met = result.best_values.met

@@ -90,12 +90,15 @@ def flat_summary(summary: dict, prefix: str = "") -> dict[str, float]:
 
 def run_design(template: Suspension, variables: Sequence[DesignVariable], values,
                labels: Sequence[str] = ("initial",), rig: RigSpec | None = None,
-               derivatives: bool = True, detail: str = "summary") -> DesignRun:
+               derivatives: bool = True, detail: str = "summary", compliance: bool = True
+               ) -> DesignRun:
     """The models ``labels`` (of :data:`MODELS`) at ``values`` of ``variables`` on ``rig``'s
     load cases (default: the template's), with the derivatives of every column and summary
     figure when ``derivatives`` (``detail``: which columns' tangents,
-    :func:`~elastokin.rig.load_cases.run_drive_sides`)."""
+    :func:`~elastokin.rig.load_cases.run_drive_sides`; ``compliance``: with the compliant
+    models' compliance matrix and the figures from it, anti-dive among them)."""
     values = np.asarray(values, float)
+    with_compliance = compliance
     s = design_suspension(template, variables, values)
     moved = []
     if derivatives:
@@ -118,7 +121,7 @@ def run_design(template: Suspension, variables: Sequence[DesignVariable], values
                  for (plus, minus, h), dd in zip(moved, d_design)]
         by_side = run_load_cases_sides(model, label, rig, twins=pairs, detail=detail)
         compliance, d_compliance = None, None
-        if not kin:
+        if not kin and with_compliance:
             compliance = wheel_compliance(model, twins=pairs or None)
             if pairs:
                 compliance, d_compliance = compliance

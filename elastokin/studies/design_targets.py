@@ -49,6 +49,17 @@ def characteristic_load_case(name: str) -> str:
     return CHARACTERISTICS[base].load_case or "parallel_travel"
 
 
+#: the characteristics computed from the compliance matrix (by name or prefix)
+FROM_COMPLIANCE = ("axle.percent_anti", "axle.roll_centre_height_force_based_mm",
+                   "axle.named_compliances", "compliance")
+
+
+def needs_compliance(targets: Targets) -> bool:
+    """Whether a target reads the compliance matrix (anti-dive, the force-based roll
+    centre, the named compliances)."""
+    return any(name.startswith(FROM_COMPLIANCE) for name in targets.spec.characteristics)
+
+
 def target_rig(suspension: Suspension, targets: Targets) -> RigSpec:
     """The config's rig with only the load cases the targets need."""
     needed = {c.load_case for c in targets.spec.curves.values()}
