@@ -1,19 +1,27 @@
-"""Per-point cost of an axle's load cases against its corner's (issue 18, "Measures").
+"""Per-point cost of an axle's load cases, for every shipped kind, against its corner's
+(issues 18 and 25, "Measures").
 
 For each suspension, in one run on this machine: the axle (both wheels, the config as it is)
-and its corner (the config side alone, :func:`elastokin.config.variants.corner`: the config
-without its ``axle`` section), each built once; then every load case both run (parallel
-travel, vertical force, and the in-phase force cases) timed on both, and the axle's own cases
-(opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle.
-A load case's time is that of :func:`elastokin.rig.load_cases.run_drive_sides` (the solve
-of every step, as one ``SolveStatic``, and every channel of both wheels), best of
-``--repeat``; per point = time / the drive's steps. The ratio axle / corner is per point of
-the same load case. Suspensions: the shipped double wishbone axle
-(configs/double_wishbone_axle.yaml: rack, anti-roll bar, bushings, stops) and the case study
-(configs/pseudo_mcpherson.yaml, a decoupled mirrored axle), each at its own rig.
+and, for an independent axle, its corner (the config side alone,
+:func:`elastokin.config.variants.corner`: the config without its ``axle`` section; a solid
+axle has none: one part carries both wheels), each built once; then every load case timed on
+both (parallel travel, vertical force, and the in-phase force cases), and the axle's own cases
+(opposite and single wheel travel, roll, steering, lateral force in anti-phase) on the axle. A
+load case's time is that of :func:`elastokin.rig.load_cases.run_drive_sides` (the solve of
+every step, as one ``SolveStatic``, and every channel of both wheels), best of ``--repeat``;
+per point = time / the drive's steps. The ratio axle / corner is per point of the same load
+case. Suspensions, each at its own rig: the double wishbone axle (rack, anti-roll bar,
+bushings, stops), the case study (a decoupled mirrored axle), the multi-link, the
+semi-trailing arm, the solid axles with a Panhard rod and with a Watt's linkage.
+
+The twist beam (configs/twist_beam_axle.yaml) is timed against the same axle with a rigid
+cross beam (:func:`elastokin.config.variants.rigid_beams`; built with the flexible axle's
+design preloads: on two ball joints a rigid axle is over-constrained in the assembly check),
+load case by load case: what the flexible beam (its elements and the shear-centre chain)
+costs per point.
 
 Prints the figures and writes them to ``benchmarks/results/bench_axle.json``, with the
-machine's load average before and after. No target: the measure the issue asks for.
+machine's load average before and after. No target: the measure the issues ask for.
 """
 
 from __future__ import annotations
@@ -27,16 +35,20 @@ import warnings
 from pathlib import Path
 
 from elastokin.config.loading import load_suspension
-from elastokin.config.variants import corner
-from elastokin.mbs.design import build_model
+from elastokin.config.variants import corner, rigid_beams
+from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import EXUDYN_VERSION
+from elastokin.rig.axle_channels import dependent_axle
 from elastokin.rig.drives import drives
 from elastokin.rig.load_cases import run_drive_sides
 from elastokin.version import __version__
 
 ROOT = Path(__file__).resolve().parents[1]
-CONFIGS = {"double_wishbone_axle": ROOT / "configs" / "double_wishbone_axle.yaml",
-           "case_study": ROOT / "configs" / "pseudo_mcpherson.yaml"}
+CONFIGS = {name: ROOT / "configs" / f"{file}.yaml" for name, file in (
+    ("double_wishbone_axle", "double_wishbone_axle"), ("case_study", "pseudo_mcpherson"),
+    ("multilink", "multilink_axle"), ("semi_trailing_arm", "semi_trailing_arm_axle"),
+    ("solid_axle_panhard", "solid_axle_panhard"), ("solid_axle_watt", "solid_axle_watt"))}
+TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 
 
 def best_of(fn, repeat: int) -> float:
@@ -48,10 +60,11 @@ def best_of(fn, repeat: int) -> float:
     return best
 
 
-def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
-    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s``."""
+def load_case_times(s, repeat: int, design=None) -> tuple[float, dict[str, dict]]:
+    """(build s, {load case: {points, total_ms, ms_per_point}}) of suspension ``s`` (with
+    these design preloads, or its own)."""
     t0 = time.perf_counter()
-    model = build_model(s)
+    model = build_model(s, design=design)
     build = time.perf_counter() - t0
     out = {}
     for d in drives(s, kinematic=s.kinematic):
@@ -63,16 +76,34 @@ def load_case_times(s, repeat: int) -> tuple[float, dict[str, dict]]:
 
 
 def compare(path: Path, repeat: int) -> dict:
+    """The figures of one suspension: the axle's, and its corner's where it has one."""
     axle = load_suspension(path)
-    alone = corner(axle)
     build_axle, times_axle = load_case_times(axle, repeat)
-    build_corner, times_corner = load_case_times(alone, repeat)
-    ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
-              for case, c in times_corner.items() if case in times_axle}
+    build_corner, times_corner, ratios = None, {}, {}
+    if not dependent_axle(axle):
+        build_corner, times_corner = load_case_times(corner(axle), repeat)
+        ratios = {case: times_axle[case]["ms_per_point"] / c["ms_per_point"]
+                  for case, c in times_corner.items() if case in times_axle}
     return {"config": str(path.relative_to(ROOT)), "config_sha256": axle.sha256,
             "build_s": {"axle": build_axle, "corner": build_corner},
             "axle": times_axle, "corner": times_corner,
             "ratio_axle_to_corner_per_point": ratios}
+
+
+def compare_beam(path: Path, repeat: int) -> dict:
+    """The twist beam's cost per point against the same axle with a rigid cross beam."""
+    flexible = load_suspension(path)
+    design = design_state(flexible)
+    build_flexible, times_flexible = load_case_times(flexible, repeat, design)
+    build_rigid, times_rigid = load_case_times(rigid_beams(flexible), repeat, design)
+    ratios = {case: t["ms_per_point"] / times_rigid[case]["ms_per_point"]
+              for case, t in times_flexible.items()}
+    return {"config": str(path.relative_to(ROOT)), "config_sha256": flexible.sha256,
+            "beam_elements": sum(b.elements_per_segment * (len(b.nodes_mm) - 1)
+                                 for b in flexible.beams),
+            "build_s": {"flexible": build_flexible, "rigid": build_rigid},
+            "flexible": times_flexible, "rigid": times_rigid,
+            "ratio_flexible_to_rigid_per_point": ratios}
 
 
 def main() -> None:
@@ -84,18 +115,21 @@ def main() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # e.g. undefined steering axis at a step
         figures = {name: compare(path, args.repeat) for name, path in CONFIGS.items()}
+        beam = compare_beam(TWIST_BEAM, args.repeat)
     result = {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
               "machine": {"python": platform.python_version(),
                           "processor": platform.machine(), "cpus": os.cpu_count()},
               "repeat": args.repeat, "load_average_before": load_before,
-              "load_average_after": os.getloadavg(), "suspensions": figures}
+              "load_average_after": os.getloadavg(), "suspensions": figures,
+              "twist_beam": beam}
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {result['load_average_after'][0]:.2f}")
     for name, f in figures.items():
+        built = f["build_s"]["corner"]
         print(f"\n{name} ({f['config']}): build axle {f['build_s']['axle']:.2f} s, corner "
-              f"{f['build_s']['corner']:.2f} s")
+              + (f"{built:.2f} s" if built is not None else "- (a solid axle)"))
         print(f"  {'load case':<28}{'points':>7}{'axle ms/pt':>12}{'corner ms/pt':>14}"
               f"{'ratio':>8}")
         for case, a in f["axle"].items():
@@ -103,6 +137,14 @@ def main() -> None:
             corner_ms = f"{c['ms_per_point']:14.3f}" if c else f"{'-':>14}"
             ratio = f"{f['ratio_axle_to_corner_per_point'][case]:8.2f}" if c else f"{'-':>8}"
             print(f"  {case:<28}{a['points']:7d}{a['ms_per_point']:12.3f}{corner_ms}{ratio}")
+    print(f"\ntwist beam ({beam['config']}, {beam['beam_elements']} beam elements) against "
+          f"a rigid cross beam: build {beam['build_s']['flexible']:.2f} s / "
+          f"{beam['build_s']['rigid']:.2f} s")
+    print(f"  {'load case':<28}{'points':>7}{'beam ms/pt':>12}{'rigid ms/pt':>13}{'ratio':>8}")
+    for case, t in beam["flexible"].items():
+        print(f"  {case:<28}{t['points']:7d}{t['ms_per_point']:12.3f}"
+              f"{beam['rigid'][case]['ms_per_point']:13.3f}"
+              f"{beam['ratio_flexible_to_rigid_per_point'][case]:8.2f}")
     print(f"\nwritten to {args.out}")
 
 

@@ -14,6 +14,7 @@ The public Python API (the CLI is a thin layer over it)::
     model = ek.build_model(ek.kinematic(s))                       # one model variant
     sweeps = ek.run_load_cases(model, "kinematic")                # every load case of the rig
     ident = ek.identify_geometry(s)                               # the paper's method
+    motion = ek.identify_motion(s)             # joints from the parts' motion (a 'motion' plan)
 
 A resolved :class:`Suspension` is read-only: ``s.hardpoints["J3"] = ...`` raises and names
 ``with_hardpoints``; ``copy.deepcopy(s.raw)`` is the config mapping to edit (numpy numbers
@@ -36,6 +37,7 @@ _API = {
     "load_suspension_with_rig": "elastokin.config.loading",
     "load_rig": "elastokin.config.loading",
     "suspension_from_dict": "elastokin.config.loading",
+    "data_folders": "elastokin.config.confined",
     "Suspension": "elastokin.config.suspension",
     "ModelVariant": "elastokin.config.variants",
     "DesignState": "elastokin.config.variants",
@@ -43,6 +45,7 @@ _API = {
     "with_hardpoints": "elastokin.config.variants",
     "with_bushing_laws": "elastokin.config.variants",
     "with_joint_shifts": "elastokin.config.variants",
+    "rigid_beams": "elastokin.config.variants",
     # models
     "build_model": "elastokin.mbs.design",
     "design_state": "elastokin.mbs.design",
@@ -60,6 +63,7 @@ _API = {
     "CHANNELS": "elastokin.rig.channels",
     # identification and studies
     "identify_geometry": "elastokin.studies.identification",
+    "identify_motion": "elastokin.identification.motion.identify",
     "identify_stiffness": "elastokin.identification.stiffness",
     "run_kc": "elastokin.studies.kc_job",
     "run_kc_from_identification": "elastokin.studies.kc_job",

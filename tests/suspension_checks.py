@@ -18,10 +18,12 @@ def assert_same_bushings(expected, actual, deflections: np.ndarray) -> None:
 
 
 def scrambled(data: dict) -> dict:
-    """The config with every hardpoint moved by 5 mm and every bushing 3x stiffer: a template
-    whose geometry and bushings must all come back from the ADAMS files."""
+    """The config with every hardpoint moved by 5 mm (a point on the centre plane, y = 0, kept
+    on it) and every bushing 3x stiffer: a template whose geometry and bushings must all come
+    back from the ADAMS files."""
     t = copy.deepcopy(data)
-    t["hardpoints"] = {k: [v[0] + 5.0, v[1] - 5.0, v[2] + 5.0] for k, v in t["hardpoints"].items()}
+    t["hardpoints"] = {k: [v[0] + 5.0, v[1] if v[1] == 0.0 else v[1] - 5.0, v[2] + 5.0]
+                       for k, v in t["hardpoints"].items()}
     for c in t["connections"].values():
         if c["type"] == "bushing":
             c["stiffness"] = {d: 3.0 * v if isinstance(v, (int, float)) else

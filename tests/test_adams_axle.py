@@ -42,6 +42,7 @@ from elastokin.rig.characteristics import measured
 from elastokin.rig.drives import roll_drive, steering_drive
 from elastokin.rig.load_cases import run_drive_sides
 
+from . import suspension_checks
 from .suspension_checks import assert_same_bushings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,12 +77,7 @@ def subs(db: Path) -> dict[str, Path]:
 def scrambled(data: dict) -> dict:
     """The axle config with its geometry, bushings, bar rate, rack ratio and travel limit all
     changed: a template whose every exported value must come back from the ADAMS files."""
-    t = copy.deepcopy(data)
-    t["hardpoints"] = {k: [v[0] + 5.0, v[1] if v[1] == 0.0 else v[1] - 5.0, v[2] + 5.0]
-                       for k, v in t["hardpoints"].items()}
-    for c in t["connections"].values():
-        if c["type"] == "bushing":
-            c["stiffness"] = {d: 3.0 * v for d, v in c["stiffness"].items()}
+    t = suspension_checks.scrambled(data)
     t["axle"]["anti_roll_bar"]["rate_Nmm_per_deg"] = 20000.0
     t["axle"]["steering"]["ratio_mm_per_rev"] = 35.0
     t["axle"]["steering"]["limit_mm"] = 80.0

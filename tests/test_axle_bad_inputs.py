@@ -1,7 +1,11 @@
 """Bad axle input ends in one clear line naming the key (issue 18, correctness 7): a mirror
 plane that cuts a part, a shared part declared on both sides, an anti-roll bar whose drop link
-does not reach the wheel, a steering input beyond the rack's travel. On the shipped double
-wishbone axle and the steering trapezoid of tests/data; one case through ``elastokin kc``."""
+does not reach the wheel, a steering input beyond the rack's travel; and (issue 24, items 3
+and 10) the other side's points on the wrong side, names the mirror generates typed by the
+user, vehicle data in the wrong unit (the slip named). On the shipped double wishbone axle
+and the steering trapezoid of tests/data; one case through ``elastokin kc``."""
+
+import copy
 
 import pytest
 import yaml
@@ -71,9 +75,93 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("edit, key, words", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
-def test_bad_axle_config(edit, key, words):
-    d = config("double_wishbone_axle.yaml")
+def _right_tie_rod_on_the_left(d):
+    """The right wheel's tie-rod end typed with the left's coordinates (y > 0)."""
+    d["axle"]["other_side"] = {"hardpoints": {"tierod_outer": [-176.0, 821.0, -16.0]}}
+
+
+def _offset_origin(d):
+    """Hardpoints measured from the left wheel's side (origin 3 m off the centre plane)."""
+    d["hardpoints"] = {k: [x, y + 3000.0, z] for k, (x, y, z) in d["hardpoints"].items()}
+
+
+def _add(section: str, name: str, like: str, **changes):
+    def edit(d):
+        d[section][name] = {**copy.deepcopy(d[section][like]), **changes}
+    return edit
+
+
+INPUT_CASES = [  # issue 24: values that cannot be meant, names the mirror takes
+    # the other side's points, in the config frame: a sign slip puts a joint across the car
+    ("other_side point on the wrong side", _right_tie_rod_on_the_left,
+     "axle.other_side.hardpoints.tierod_outer",
+     ["y = 821 mm is not on the right side", "[-176, -821, -16]"]),
+    ("other_side point with two coordinates",
+     _edit("axle.other_side", {"hardpoints": {"lca_outer": [-36.0, -787.0]}}),
+     "axle.other_side.hardpoints.lca_outer[2]", ["item [2] is missing"]),
+    ("other_side point given by name",
+     _edit("axle.other_side", {"hardpoints": {"lca_outer": "lca_front"}}),
+     "axle.other_side.hardpoints.lca_outer", ["a point is [x, y, z] in mm"]),
+    ("other_side override changing nothing",
+     _edit("axle.other_side", {"connections": {"lca_bushing": {"stiffness": {}}}}),
+     "axle.other_side.connections.lca_bushing", ["give at least one direction"]),
+    # names the mirror generates, typed by the user: silently replaced by the mirror before
+    ("hardpoint named like a mirror copy", _edit("hardpoints.lca_outer_right",
+                                                [-36.0, -790.0, -118.0]),
+     "hardpoints.lca_outer_right", ["mirrored copy of hardpoint 'lca_outer'", "rename"]),
+    ("spring named like a mirrored connection", _add("springs", "lca_bushing_right", "coil",
+                                                          preload_N=100.0),
+     "springs.lca_bushing_right", ["mirrored copy of connection 'lca_bushing'"]),
+    ("stop named like a mirrored stop", _add("stops", "bump_stop_right", "bump_stop"),
+     "stops.bump_stop_right", ["mirrored copy of stop 'bump_stop'"]),
+    # vehicle data in the wrong unit: the likely slip named
+    ("wheelbase in metres", _edit("axle.vehicle.wheelbase_mm", 3.378),
+     "axle.vehicle.wheelbase_mm", ["3.378 - in metres?", "500 ... 20,000 mm"]),
+    ("CG height in centimetres", _edit("axle.vehicle.cg_height_mm", 88.32),
+     "axle.vehicle.cg_height_mm", ["88.32 - in centimetres or inches?"]),
+    ("brake fraction as a percentage", _edit("axle.vehicle.brake_fraction", 50),
+     "axle.vehicle.brake_fraction", ["a percentage? give 0.5"]),
+    ("rack ratio in metres", _edit("axle.steering.ratio_mm_per_rev", 0.05),
+     "axle.steering.ratio_mm_per_rev", ["0.05 - in metres?"]),
+    ("bar rate in N*m/deg", _edit("axle.anti_roll_bar.rate_Nmm_per_deg", 60.85),
+     "axle.anti_roll_bar.rate_Nmm_per_deg", ["60.85 - in N*m/deg?"]),
+    ("tyre rate in N/m", _edit("wheel.tyre_rate_N_per_mm", 411121),
+     "wheel.tyre_rate_N_per_mm", ["411121 - in N/m?"]),
+    ("loaded radius in metres", _edit("wheel.loaded_radius_mm", 0.4539),
+     "wheel.loaded_radius_mm", ["0.4539 - in metres?"]),
+    ("hardpoint far beyond the car", _edit("hardpoints.lca_outer", [-36.0, 1e30, -118.0]),
+     "hardpoints.lca_outer[1]", ["1e+30 mm: a point more than 1,000,000 mm from the origin"]),
+    ("origin off the centre plane", _offset_origin, "wheel.centre",
+     ["design track", "7820", "origin on the vehicle centre plane"]),
+    # curves in the terms of the steering, not of a bushing
+    ("rack travel falling with the steering wheel",
+     _edit("axle.steering", {"rack": "steering", "limit_mm": 87.0, "ratio_curve": {
+         "steering_wheel_deg": [-360.0, 0.0, 360.0], "rack_travel_mm": [50.0, 0.0, -50.0]}}),
+     "axle.steering.ratio_curve", ["rack_travel_mm must increase strictly"]),
+]
+
+
+#: on the solid axle with a Panhard rod: items among the shared tube and the ground that
+#: exist on both sides (axle.both_sides)
+SOLID_AXLE_CASES = [
+    ("both_sides_unknown", _edit("axle.both_sides", ["coil", "coil_spring"]),
+     "axle.both_sides[1]", ["no connection, spring or stop 'coil_spring'"]),
+    ("both_sides_twice", _edit("axle.both_sides", ["coil", "coil"]), "axle.both_sides[1]",
+     ["listed twice"]),
+    ("both_sides_corner_item", _edit("axle.both_sides", ["coil", "arb_bearing"]),
+     "axle.both_sides[1]", ["corner part 'arb'", "both sides already"]),
+    ("both_sides_on_centre_plane", _edit("axle.both_sides", ["coil", "axle_guide"]),
+     "connections.axle_guide", ["axle.both_sides", "y = 0 mm", "left side"]),
+]
+
+
+@pytest.mark.parametrize(
+    "name, edit, key, words",
+    [("double_wishbone_axle.yaml", *c[1:]) for c in CASES + INPUT_CASES]
+    + [("solid_axle_panhard.yaml", *c[1:]) for c in SOLID_AXLE_CASES],
+    ids=[c[0] for c in CASES + INPUT_CASES + SOLID_AXLE_CASES])
+def test_bad_axle_config(name, edit, key, words):
+    d = config(name)
     edit(d)
     message = _error(d)
     assert message.startswith(f"axle.yaml: key '{key}':"), message

@@ -187,8 +187,10 @@ def test_charts_only_for_an_axle_and_the_load_cases_run(sweeps, tmp_path):
     # an axle: the corner's chart of the config side's wheel, then the axle's
     (tmp_path / "axle").mkdir()
     paths = kc_charts(sweeps, tmp_path / "axle", PROV, axle=INPUTS, svg=True)
+    # (an independent axle: its roll centre from parallel travel, none in opposite travel)
     assert [p.name for p in paths if p.suffix == ".png"] == [
-        "steer_vs_travel.png", *(f"{s.name}.png" for s in AXLE_CHART_LIST)]
+        "steer_vs_travel.png", *(f"{s.name}.png" for s in AXLE_CHART_LIST
+                                 if s.name != "roll_centre_height_vs_opposite_travel")]
     assert all(p.stat().st_size > 1000 for p in paths) and len(paths) == 12
     jobs = chart_jobs(sweeps, tmp_path, PROV, None, False, INPUTS)
     corner = jobs[0][1]
@@ -231,7 +233,35 @@ def test_a_reused_canvas_draws_the_pair_as_a_new_one(sweeps, tmp_path):
     assert _pixels(tmp_path / "a.png").shape == (750, 1050, 3)  # 7 x 5 in at 150 dpi
 
 
+def opposite_travel(model: str) -> Sweep:
+    """Opposite wheel travel of an axle joined by a flexible beam (the config side's wheel)
+    with its roll centre."""
+    sw = travel(model, "left")
+    return Sweep(model, "opposite_travel", {**sw.columns, "roll_centre_height_mm":
+                                            200.0 - 0.2 * sw.columns["wheel_travel_mm"]},
+                 side="left")
+
+
+def test_roll_centre_height_in_roll_on_a_twist_beam(sweeps):
+    """On an axle joined by a flexible beam (a twist beam) the kinematic roll centre comes
+    from opposite wheel travel: the parallel-travel chart is left out, the opposite-travel one
+    drawn."""
+    twist = [sw for sw in sweeps if sw.load_case != "parallel_travel"]
+    twist += [opposite_travel("initial")]
+    assert axle_chart_data(AXLE_CHARTS["roll_centre_height_vs_travel"], twist,
+                           INPUTS) is None
+    spec = AXLE_CHARTS["roll_centre_height_vs_opposite_travel"]
+    data = axle_chart_data(spec, twist, INPUTS)
+    (model, legend, x, y), = data.panels[0].lines
+    assert np.allclose(y, 200.0 - 0.2 * x) and x.size == 41
+    assert legend == "initial: kinematic at static 100.0 mm, force-based 101.5 mm"
+    assert "in roll" in data.title
+    assert "opposite wheel travel" in axle_chart_caption(spec, False, False)
+    assert axle_chart_data(spec, sweeps, INPUTS) is None  # an independent axle: none
+
+
 @pytest.mark.parametrize("name", [s.name for s in AXLE_CHART_LIST])
 def test_every_label_of_an_axle_chart_lies_inside_the_figure(sweeps, name):
+    sweeps = sweeps + [opposite_travel("initial")]
     data = axle_chart_data(AXLE_CHARTS[name], sweeps, INPUTS)
     assert texts_outside_the_figure(draw_axle_chart(ChartCanvas(), data, PROV)) == []

@@ -184,6 +184,24 @@ def _del(*keys):
     return mutate
 
 
+def _hanging_part(d):
+    """A bracket on the knuckle by one ball joint, nothing else (no axle: one corner)."""
+    d.pop("axle", None)
+    d["parts"]["bracket"] = {}
+    d["connections"]["bracket_ball"] = {"type": "spherical", "parts": ["knuckle", "bracket"],
+                                        "at": "J6"}
+
+
+def _rod_part(d):
+    """The tie rod as a part between two ball joints (it spins about its own line)."""
+    d.pop("axle", None)
+    inner, outer = d["connections"].pop("tie_rod")["at"]
+    d["parts"]["rod"] = {}
+    d["connections"]["rod_inner"] = {"type": "spherical", "parts": ["body", "rod"], "at": inner}
+    d["connections"]["rod_outer"] = {"type": "spherical", "parts": ["rod", "knuckle"],
+                                     "at": outer}
+
+
 def kc(name, expected, mutate=None, text=None):
     return case(name, "kc", lambda f: ["--config", f.config(mutate, text)],
                 ["bad.yaml", *expected], kind="config")
@@ -226,6 +244,11 @@ CONFIG_CASES = [
                                  "at": "J6"})),
     kc("no convergence", ["did not converge"], lambda d: d["solver"].update(
         max_newton_iterations=1, newton_tolerance=1e-14)),
+    # a part nothing holds: named before "did not converge" (issue 24, item 7)
+    kc("part hanging on one ball joint", ["nothing holds part", "'bracket' (3 free directions;"
+                                          " its connections: bracket_ball)"], _hanging_part),
+    kc("rod turning between two ball joints", ["'rod' (1 free direction", "'link' connection"],
+       _rod_part),
     kc("unknown top-level key", ["colour"], _set("colour", "red")),
     kc("unknown spring seat", ["nope"],
        _set("springs", "coil", "seats", ["spring_upper_seat", "nope"])),

@@ -186,3 +186,22 @@ def test_every_label_lies_inside_the_figure(name, with_test):
     fig = draw_chart(ChartCanvas(), chart_data(spec, sweeps), PROV)
     assert any(ax.get_title() == spec.title for ax in fig.axes)
     assert texts_outside_the_figure(fig) == [], name
+
+
+def test_a_quantity_that_does_not_change_is_drawn_flat():
+    """A chart of solver noise (the toe of an axle that cannot steer, ~1e-16 deg) spans at
+    least MIN_Y_SPAN about its middle, so it reads as the flat line it is; a real range is
+    left as matplotlib scales it."""
+    from elastokin.report.chart_canvas import MIN_Y_SPAN, ChartCanvas, floor_y_span
+
+    _, ax, _, _ = ChartCanvas().axes(1)
+    ax.plot([0.0, 1.0, 2.0], [1e-16, -2e-16, 0.0])
+    floor_y_span(ax)
+    y0, y1 = ax.get_ylim()
+    assert y1 - y0 == pytest.approx(MIN_Y_SPAN) and abs(y0 + y1) < 1e-15
+    ax.plot([0.0, 1.0], [0.0, 0.5])
+    ax.relim()
+    ax.autoscale(True)
+    before = ax.get_ylim()
+    floor_y_span(ax)
+    assert ax.get_ylim() == before

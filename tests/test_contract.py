@@ -6,7 +6,10 @@ and branch labels, every column has a unit in the channel table, the zero-input 
 static state, a repeated run gives identical numbers, the suspension is not mutated, results
 pickle (for dask); and, on the nominal pseudo-McPherson and the double wishbone, toe, camber and
 travel do not depend on the side (left/right mirror) or on the frame (ISO 8855 or ADAMS/Car).
-The rig is each config's in few, large steps, so that the whole contract runs in seconds.
+The rig is each config's in few, large steps, so that the whole contract runs in seconds. The
+shipped axle kinds (multi-link, semi-trailing arm, solid axles) are variants too, and the solid
+axle with a Panhard rod (one shared part carrying both wheels, items on both sides) is mirrored
+and turned into the other frame as well.
 """
 
 from __future__ import annotations
@@ -29,6 +32,13 @@ from elastokin.rig.load_cases import drives, run_drive, run_drive_sides, static_
 from .conftest import CASE
 
 DW = Path(__file__).parent / "data" / "double_wishbone.yaml"
+CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+TWIST_BEAM = CONFIGS / "twist_beam_axle.yaml"
+#: the shipped axle kinds of issue 25 (tests/test_kinds.py checks their results)
+KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
+         "semi_trailing_arm": CONFIGS / "semi_trailing_arm_axle.yaml",
+         "solid_axle_panhard": CONFIGS / "solid_axle_panhard.yaml",
+         "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml"}
 
 
 def coarse_rig(data: dict) -> dict:
@@ -137,6 +147,9 @@ VARIANTS = {
     "friction": _friction,
     "imported_from_adams": _imported_from_adams,
     "double_wishbone": lambda: ModelVariant("double_wishbone", nominal(DW)),
+    "twist_beam": lambda: ModelVariant("twist_beam", nominal(TWIST_BEAM)),
+    **{name: (lambda name=name, path=path: ModelVariant(name, nominal(path)))
+       for name, path in KINDS.items()},
 }
 _BUILT: dict[str, tuple] = {}
 
@@ -232,7 +245,8 @@ def _vehicle_columns(data: dict):
             for sw in run_drive_sides(model, "m", d)}
 
 
-@pytest.fixture(scope="module", params=[CASE, DW], ids=["pseudo_mcpherson", "double_wishbone"])
+@pytest.fixture(scope="module", params=[CASE, DW, KINDS["solid_axle_panhard"]],
+                ids=["pseudo_mcpherson", "double_wishbone", "solid_axle_panhard"])
 def mirror_sets(request):
     data = nominal_data(request.param)
     other_side = "right" if data["side"] == "left" else "left"
@@ -242,7 +256,9 @@ def mirror_sets(request):
                    else {"x": "rearward", "y": "right", "z": "up"})
     return {"original": _vehicle_columns(data),
             "mirrored": _vehicle_columns(_transform_config(data, mirror, other_side, None)),
-            "other_frame": _vehicle_columns(_transform_config(data, turn, None, other_frame))}
+            "other_frame": _vehicle_columns(_transform_config(data, turn, None, other_frame)),
+            # one Panhard rod across the car: its mirror image is another axle
+            "asymmetric": request.param == KINDS["solid_axle_panhard"]}
 
 
 @pytest.mark.parametrize("which", ["mirrored", "other_frame"])
@@ -252,15 +268,19 @@ def test_side_and_frame_invariance(mirror_sets, which):
     axle (every wheel, every load case, its right corner now the config's); a mirrored corner
     is the other side's corner, whose lateral quantities in the vehicle's axes flip sign (the
     mirror of a lateral force or aligning torque to the vehicle's left is one to its right:
-    those cases are compared in the other frame only). 1e-7: Newton tolerance of each solve."""
+    those cases are compared in the other frame only). So is an asymmetric axle's mirror (the
+    Panhard rod's chassis end on the other side): each wheel is the original's other wheel,
+    mirrored, in the corner load cases. 1e-7: Newton tolerance of each solve."""
     a, b = mirror_sets["original"], mirror_sets[which]
     axle = {side for _, side in a} == {"left", "right"}
-    corner_mirror = which == "mirrored" and not axle
-    sign = -1.0 if corner_mirror else 1.0
+    other_wheel = which == "mirrored" and (not axle or mirror_sets["asymmetric"])
+    sign = -1.0 if other_wheel else 1.0
     for (case, side), sw in a.items():
-        if corner_mirror and case in ("lateral_force", "aligning_torque"):
+        if other_wheel and (case in ("lateral_force", "aligning_torque")
+                            or not LOAD_CASES[case].corner):
             continue
-        other = b[(case, "right" if corner_mirror else side)]
+        mirrored_side = "right" if not axle else {"left": "right", "right": "left"}[side]
+        other = b[(case, mirrored_side if other_wheel else side)]
         for col in ("toe_deg", "camber_deg", "wheel_travel_mm", "wheel_centre_longitudinal_mm"):
             np.testing.assert_allclose(other.columns[col], sw.columns[col], atol=1e-7,
                                        err_msg=f"{case} {side} {col}")

@@ -6,6 +6,7 @@ computation and replaced only when a run succeeded (its staging folders and move
 from __future__ import annotations
 
 import errno
+import functools
 import os
 import shutil
 import sys
@@ -48,7 +49,12 @@ def check_writable(path: Path, option: str = "--out") -> None:
         if not existing.is_dir():
             raise cannot_write(option, path, f"{os.strerror(errno.ENOTDIR)}: {existing}")
         for folder in [existing] + ([path] if path.is_dir() else []):
-            fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+            try:
+                fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+            except FileNotFoundError:
+                if folder == path and not path.exists():
+                    continue  # another run moved its results in meanwhile: `existing` told
+                raise
             os.close(fd)
             os.unlink(probe)
     except OSError as exc:
@@ -62,11 +68,13 @@ class Output:
     (:mod:`elastokin.cli.staging`). :meth:`check` refuses an unusable ``out`` before any
     computation."""
 
-    def __init__(self, out: Path, marker: str = "summary.json", option: str = "--out"):
+    def __init__(self, out: Path, marker: str | tuple[str, ...] = "summary.json",
+                 option: str = "--out"):
         self.out = out  # as given: named in messages
         # a link the user gave: the results replace the folder it points to, not the link
         self.target = Path(os.path.realpath(out)) if out.is_symlink() else out
-        self.marker = marker  # a file that says the folder holds elastokin results
+        # a file (any of them) that says the folder holds elastokin results
+        self.markers = (marker,) if isinstance(marker, str) else tuple(marker)
         self.option = option
         self.owner: int | None = None  # the staging folder's locked owner file
 
@@ -79,9 +87,11 @@ class Output:
                                  f"{out / 'results'}")
         if out.exists() and not out.is_dir():
             raise ElastokinError(f"{opt} {out}: exists and is not a folder")
-        if out.is_dir() and any(out.iterdir()) and not (out / self.marker).exists():
+        if out.is_dir() and any(out.iterdir()) and not any(
+                (out / m).exists() for m in self.markers):
             raise ElastokinError(f"{opt} {out}: folder is not empty and holds no elastokin "
-                                 f"results ({self.marker}); choose another folder")
+                                 f"results ({' or '.join(self.markers)}); choose another "
+                                 "folder")
         check_writable(out, opt)
 
     def __enter__(self) -> Path:
@@ -189,3 +199,41 @@ rig_option = click.option(
     show_default="the config's rig section",
     help="Rig file (YAML): the load cases to run instead of the config's 'rig' section "
          "(README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
+
+
+def data_option(command):
+    """``--data FOLDER`` (repeatable) on a command that reads a config's data: the command
+    runs with those folders allowed besides the config's own
+    (:func:`elastokin.config.confined.data_folders`)."""
+
+    @functools.wraps(command)
+    def run(*args, data_typed: tuple[Path, ...] = (), **kwargs):
+        from elastokin.config.confined import data_folders
+
+        with data_folders(data_typed):
+            return command(*args, **kwargs)
+
+    return click.option(
+        "--data", "data_typed", multiple=True, metavar="FOLDER",
+        type=click.Path(file_okay=False, path_type=Path),
+        help="A folder the config's data (CMM, motion and K&C test files) may also lie in, "
+             "besides the config's own folder (repeatable; README 'Which paths may point "
+             "anywhere'). E.g. --data configs for a config that identify wrote.")(run)
+
+
+def data_hint(written: Path, suspension,
+              sections: tuple[str, ...] = ("measurements", "motion", "kc_test")) -> str | None:
+    """How to run the config ``written`` (by identify or import-adams) that names the data
+    folders of ``suspension``'s ``sections`` as they are: the ``--data`` folders it needs,
+    None when its data lie in its own folder."""
+    from elastokin.config.confined import Roots, resolved
+
+    own = Roots.of([written.parent], "")
+    folders = [Path(suspension.source).parent / getattr(suspension, section).folder
+               for section in sections if getattr(suspension, section, None) is not None]
+    outside = list(dict.fromkeys(os.path.normpath(f) for f in folders
+                                 if not own.hold(resolved(f))))
+    if not outside:
+        return None
+    return (f"its data lie outside its folder: elastokin kc --config {written} "
+            + " ".join(f"--data {f}" for f in outside))

@@ -6,12 +6,22 @@ of a run are printed once each as ``elastokin: warning: ...`` lines."""
 from __future__ import annotations
 
 import contextlib
+import json
 import sys
 from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error, rig_option
+from elastokin.cli.common import (
+    Output,
+    WarningLog,
+    check_writable,
+    data_hint,
+    data_option,
+    fail,
+    os_error,
+    rig_option,
+)
 from elastokin.errors import ElastokinError
 
 #: model runs the progress bar expects of a stiffness fit (the case study takes 6)
@@ -50,14 +60,15 @@ def progress_bar(stages: int, quiet: bool = False):
 @click.option("--models", "models", default=None, metavar="NAMES",
               help="Comma-separated models to run (default: every model the config yields: "
                    "initial and identified with CMM data, else initial and initial_kinematic; "
-                   "identified_stiffness with K&C test data). E.g. --models initial,identified "
-                   "skips the stiffness fit.")
+                   "identified_motion with a motion plan; identified_stiffness with K&C test "
+                   "data). E.g. --models initial,identified skips the stiffness fit.")
 @click.option("--refit", is_flag=True,
               help="Recompute the identification and the stiffness fit even when the "
                    "previous results in --out hold them for the same inputs (their cache).")
 @click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
               "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
+@data_option
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
        refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
@@ -85,7 +96,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
             labels = [m for m in model_labels(suspension) if m in chosen]
             fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
             stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                      + (2 + FIT_RUNS_EXPECTED) * fit)
+                      + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * fit)
             with output as tmp, progress_bar(stages, quiet) as progress:
                 cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
                 # every model run of the fit advances the bar too
@@ -115,57 +126,92 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                    "K&C test data (kc_test) and write identified_stiffness.yaml and "
                    "stiffness_identification.json/.txt.")
 @click.option("--quiet", is_flag=True, help="No progress, no table.")
+@data_option
 def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bool) -> None:
-    """Identify the joint locations from CMM data (the reference paper's method).
+    """Identify the joint locations from CMM data (the reference paper's method) and, with a
+    motion plan, from the parts' motion.
 
     Reads the parts measured alone and the assembled marks, finds every part's pose, and
     writes the identified model as a config that `elastokin kc` loads (identified.yaml: its
     model labelled 'identified', with the config's kc_test and references, so that kc
     compares it with the test), the model built from the parts alone (initial.yaml),
     identification.json and a readable identification.txt (equation numbers of the paper;
-    joints identified beyond their clearance dL_max flagged and warned about). With
-    --stiffness, also the bushing-stiffness identification against the K&C test data
-    (identified_stiffness.yaml: the identified model with the fitted laws).
+    joints identified beyond their clearance dL_max flagged and warned about). With a
+    'motion' section, also the joints located from the parts' motion at several rig
+    positions (identified_motion.yaml, motion_identification.json/.txt; docs/measurements.md).
+    With --stiffness, also the bushing-stiffness identification against the K&C test data
+    (identified_stiffness.yaml: the identified model, else identified_motion, with the fitted
+    laws).
     """
     from elastokin.config.loading import load_suspension
-    from elastokin.config.variants import ModelVariant
     from elastokin.formats.kc_test_sweeps import read_test_sweeps
-    from elastokin.mbs.design import design_state
-    from elastokin.report.files import write_identification_results
-    from elastokin.report.text import identification_table
-    from elastokin.studies.identification import identified_suspension, identify_geometry
-    from elastokin.studies.kc_job import fit
+    from elastokin.report.files import (
+        motion_dict,
+        write_identification_results,
+        write_motion_results,
+    )
+    from elastokin.report.text import identification_table, motion_table
+    from elastokin.studies.identification import identify_geometry, motion_geometry
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
-    output = Output(out_dir, marker="identification.json")
+    output = Output(out_dir, marker=("identification.json", "motion_identification.json"))
     with WarningLog() as log:
         try:
             output.check()  # before any computation
             suspension = load_suspension(config_path)
-            stages = 4 + (2 + FIT_RUNS_EXPECTED) * stiffness
+            stages = 4 + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * stiffness
             with output as tmp, progress_bar(stages, quiet) as progress:
                 test = read_test_sweeps(suspension)[0] if stiffness else []
-                ident = identify_geometry(suspension, progress=progress)
-                result = None
-                if stiffness:
-                    start = identified_suspension(ident)
-                    progress("fitting bushing stiffness to the K&C test data")
-                    result = fit(suspension,
-                                 ModelVariant("identified", start, design_state(start)), test,
-                                 progress)
+                ident = (identify_geometry(suspension, progress=progress)
+                         if suspension.measurements is not None or suspension.motion is None
+                         else None)
+                motion = motion_geometry(suspension, progress)
+                result = _identified_fit(suspension, ident, motion, test, progress) \
+                    if stiffness else None
                 progress("writing results")
-                files = write_identification_results(tmp, ident, result, config_path,
-                                                     out_dir)
+                files = [] if ident is None else write_identification_results(
+                    tmp, ident, result, config_path, out_dir)
+                doc = None if ident is None else json.loads(
+                    (tmp / "identification.json").read_text())
+                if motion is not None:
+                    files += write_motion_results(tmp, motion, result if ident is None
+                                                  else None, config_path, out_dir, doc)
         except ElastokinError as exc:
             fail(str(exc))
         except OSError as exc:
             fail(os_error(exc))
-    log.echo(ident.all_warnings)
+    log.echo([*(ident.all_warnings if ident is not None else []),
+              *(motion.warnings if motion is not None else [])])
     if not quiet:
-        click.echo(identification_table(ident))
+        if ident is not None:
+            click.echo(identification_table(ident))
+        if motion is not None:
+            click.echo(motion_table(motion_dict(motion, {}, doc)))
         if result is not None:
             click.echo(result.table())
         click.echo(f"Results in {out_dir}/: " + ", ".join(files))
+        hint = data_hint(out_dir / ("identified.yaml" if ident is not None
+                                    else "identified_motion.yaml"), suspension, ("kc_test",))
+        if hint:
+            click.echo(f"To run the identified model, {hint}")
+
+
+def _identified_fit(suspension, ident, motion, test, progress):
+    """The stiffness fit from the identified model (else the model from motion)."""
+    from elastokin.config.loading import suspension_from_dict
+    from elastokin.config.variants import ModelVariant
+    from elastokin.mbs.design import design_state
+    from elastokin.studies.identification import identified_suspension
+    from elastokin.studies.kc_job import fit
+
+    if ident is not None:
+        start, label = identified_suspension(ident), "identified"
+    else:
+        label = "identified_motion"
+        start = suspension_from_dict(motion.config, f"{suspension.source} ({label})",
+                                     suspension.sha256)
+    progress("fitting bushing stiffness to the K&C test data")
+    return fit(suspension, ModelVariant(label, start, design_state(start)), test, progress)
 
 
 @click.command()
@@ -173,18 +219,24 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
               type=click.Path(dir_okay=False, path_type=Path),
               help="Nominal suspension config with a 'measurements' section.")
 @click.option("--seed", type=int, default=None,
-              help="Random seed (default: measurements.synthetic.seed of the config).")
+              help="Random seed (default: measurements.synthetic.seed of the config; for the "
+                   "motion plan's files motion.synthetic.seed).")
 @click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's measurements.folder",
               help="Folder for the CMM files (the config's measurements.folder by default).")
 @click.option("--kc-test-out", "kc_test_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
               default=None, show_default="the config's kc_test.folder",
               help="Folder for the synthetic K&C test files.")
-@click.option("--only", type=click.Choice(["cmm", "kc-test"]), default=None,
-              help="Write only the CMM files or only the K&C test files (default: both, the "
-                   "K&C test files when the config has kc_test.synthetic).")
+@click.option("--motion-out", "motion_dir", type=click.Path(path_type=Path),
+              metavar="DIRECTORY", default=None, show_default="the config's motion.folder",
+              help="Folder for the CMM files of the motion plan (joints from motion).")
+@click.option("--only", type=click.Choice(["cmm", "kc-test", "motion"]), default=None,
+              help="Write only the CMM files, only the K&C test files or only the motion "
+                   "plan's CMM files (default: each the config has a section for; the K&C "
+                   "test files with kc_test.synthetic).")
+@data_option
 def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
-               kc_test_dir: Path | None, only: str | None) -> None:
+               kc_test_dir: Path | None, motion_dir: Path | None, only: str | None) -> None:
     """Synthetic case-study data: virtual CMM files and K&C rig test files.
 
     Makes an as-built suspension (bolted joints shifted within their clearance), solves its
@@ -192,34 +244,47 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     part measured alone and the assembled marks (IGES and CSV; noisy, scrambled, one wrong
     mark), plus truth.yaml. With a 'kc_test.synthetic' section it also runs the synthetic
     real suspension (as-built + progressive bushings + ball-joint friction) on the rig and
-    writes one K&C test CSV per load case. The same config and seed give the same bytes.
+    writes one K&C test CSV per load case. With a 'motion' section, the marks of every part
+    of the same as-built suspension at each rig position of the motion plan (seed:
+    motion.synthetic.seed). The same config and seed give the same bytes.
     """
     from elastokin.config.confined import data_folder
     from elastokin.config.loading import load_suspension
     from elastokin.synthetic.real_suspension import kc_test_runs, write_kc_test_files
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
+    from elastokin.synthetic.virtual_motion import synthesize_motion
 
     with WarningLog() as log:
         try:
-            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir)):
+            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir),
+                                   ("--motion-out", motion_dir)):
                 if folder is not None:  # before any computation
                     _check_data_folder(folder, option)
             s = load_suspension(config_path)
-            cmm = only in (None, "cmm")
+            cmm = only == "cmm" or (only is None and (s.measurements is not None
+                                                      or s.motion is None))
             kc_test = only == "kc-test" or (only is None and s.kc_test is not None
                                             and s.kc_test.synthetic is not None)
+            motion = only == "motion" or (only is None and s.motion is not None)
             # the config's folders: inside its own folder or the working folder (README)
             if cmm and out_dir is None and s.measurements is not None:
                 _check_data_folder(data_folder(s, "measurements"), "measurements.folder")
             if kc_test and kc_test_dir is None and s.kc_test is not None:
                 _check_data_folder(data_folder(s, "kc_test"), "kc_test.folder")
+            if motion and motion_dir is None and s.motion is not None:
+                _check_data_folder(data_folder(s, "motion"), "motion.folder")
             written = []
-            with progress_bar(cmm + (kc_test_runs(s) if kc_test else 0)) as progress:
+            with progress_bar(cmm + motion + (kc_test_runs(s) if kc_test else 0)) as progress:
                 if cmm:
                     progress("virtual CMM: as-built suspension and its measurements")
                     files = run_synthesis(s, seed, out_dir)
                     written.append(f"wrote {len(files)} files in {files[0].parent}/: "
                                    + ", ".join(f.name for f in files))
+                if motion:
+                    progress("virtual CMM: the as-built suspension at every rig position")
+                    files = synthesize_motion(s, seed, motion_dir)
+                    written.append(f"wrote {len(files)} files in {files[0].parent}/ (the "
+                                   "motion plan)")
                 if kc_test:
                     files = write_kc_test_files(s, kc_test_dir, seed=seed, progress=progress)
                     written.append(f"wrote {len(files)} K&C test files in "

@@ -10,6 +10,7 @@ from elastokin.cli.adams import export_adams, import_adams
 from elastokin.cli.design import optimize, sensitivity
 from elastokin.cli.doe import doe
 from elastokin.cli.kc import identify, kc, synthesize
+from elastokin.cli.view import view
 from elastokin.version import __version__
 
 
@@ -50,7 +51,7 @@ def main() -> None:
 
 
 for command in (kc, identify, synthesize, doe, optimize, sensitivity, import_adams,
-                export_adams):
+                export_adams, view):
     main.add_command(command)
 
 if __name__ == "__main__":  # pragma: no cover

@@ -21,6 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from elastokin.config.plausibility import implausible
 from elastokin.config.schema_axle import AxleSpec, SteeringSpec
 from elastokin.physics.laws import DirectionLaw
 
@@ -62,7 +63,22 @@ def steering_ratio(spec: SteeringSpec, fail) -> DirectionLaw:
     try:
         return DirectionLaw(tuple(c.steering_wheel_deg), tuple(c.rack_travel_mm))
     except ValueError as exc:
-        raise fail("axle.steering.ratio_curve", str(exc)) from None
+        raise fail("axle.steering.ratio_curve", curve_problem(
+            str(exc), "steering_wheel_deg", "rack_travel_mm")) from None
+
+
+def curve_problem(message: str, x: str, y: str) -> str:
+    """A law's complaint (:class:`~elastokin.physics.laws.DirectionLaw`, worded for a bushing
+    curve's deflection and load) in the terms of another curve, ``y`` against ``x``: it
+    increases strictly through (0, 0) (the pinion's sense is found from the geometry, the bar
+    twists both ways)."""
+    if "at zero deflection" in message:
+        return f"{y} must be 0 where {x} is 0 (the curve passes through (0, 0))"
+    if "deflections must be strictly increasing" in message:
+        return f"{x} must be strictly increasing"
+    if "strictly increasing" in message:
+        return f"{y} must increase strictly with {x}"
+    return message
 
 
 def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
@@ -81,6 +97,8 @@ def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
         out += [(f"stops.{st.name}", p) for q, p in zip(st.parts, st.points_mm) if q == part]
     if s.wheel.part == part:
         out.append(("wheel.centre", s.wheel.centre_mm))
+    for b in s.beams:
+        out += [(f"parts.{part}.beam.nodes", p) for p in b.nodes_mm] if b.part == part else []
     return out
 
 
@@ -99,13 +117,46 @@ def check_mirror_plane(s, spec: AxleSpec, fail) -> None:
                            "once) or move the point")
 
 
+def check_other_side_plane(s, spec: AxleSpec, fail) -> None:
+    """Every ``axle.other_side`` hardpoint whose corner point lies on the corner's side of the
+    centre plane lies on the other side (config frame, as the corner's points): a point typed
+    with the corner's sign would put the other wheel's joint across the car."""
+    out = s.outboard  # the config side's outboard direction
+    other = other_side(s.side)
+    for name, q in spec.other_side.hardpoints.items():
+        p = np.asarray(s.hardpoints.get(name, np.zeros(3)), float)
+        q = np.asarray(q, float)
+        if float(p @ out) <= CENTRE_PLANE_TOLERANCE_MM or float(q @ out) < \
+                -CENTRE_PLANE_TOLERANCE_MM:
+            continue
+        mirror = ", ".join(f"{v:g}" for v in MIRROR @ p)
+        raise fail(f"axle.other_side.hardpoints.{name}", f"y = {q[1]:.6g} mm is not on the "
+                   f"{other} side of the vehicle centre plane (y = 0), where the {other} "
+                   f"corner's points are ('{name}' of the {s.side} corner is at y = "
+                   f"{p[1]:.6g} mm, its mirror at [{mirror}]); other_side points are in the "
+                   "config frame, as the hardpoints: give the y coordinate its sign")
+
+
+def check_track(corner, other, fail) -> None:
+    """The design track (between the two contact points, across the centre plane) is
+    plausible (:mod:`elastokin.config.plausibility`): hardpoints typed in metres, or an origin
+    off the vehicle centre plane (y = 0, the mirror plane), give an axle that solves but is
+    not the car."""
+    track = abs(float((corner.wheel.contact_patch_mm - other.wheel.contact_patch_mm)
+                      @ corner.outboard))
+    problem = implausible("track_mm", track)
+    if problem:
+        raise fail("wheel.centre", f"the axle's design track (between the contact points of "
+                   f"this wheel and its mirror about y = 0) is {problem}: are the hardpoints "
+                   "in mm, with the origin on the vehicle centre plane?")
+
+
 def check_shared(s, spec: AxleSpec, fail) -> None:
-    """Shared parts exist and are not the wheel part; the overrides name corner items only."""
+    """Shared parts exist (a shared wheel part carries both wheels: a solid axle); the
+    overrides name corner items only."""
     for i, name in enumerate(spec.shared):
         if name not in s.parts:
             raise fail(f"axle.shared[{i}]", f"no part '{name}' (parts: {', '.join(s.parts)})")
-        if name == s.wheel.part:
-            raise fail(f"axle.shared[{i}]", f"'{name}' carries the wheel: a corner part")
     for i, name in enumerate(spec.shared):
         if name in spec.shared[:i]:
             raise fail(f"axle.shared[{i}]", f"'{name}' is listed twice (a shared part is "
@@ -132,28 +183,36 @@ def check_shared(s, spec: AxleSpec, fail) -> None:
 
 def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
     """No corner name is the name the axle gives to another item's copy on the other side
-    (``front_arm`` and ``front_arm_right``): a part named as a shared part's other-side copy
-    declares a shared part on both sides; any other such name would be taken twice."""
+    (``front_arm`` and ``front_arm_right``; a hardpoint ``X_right`` beside ``X``): a part named
+    as a shared part's other-side copy declares a shared part on both sides; any other such
+    name would be taken twice, the user's item silently replaced by the mirror. Parts,
+    connections and springs share one namespace (:meth:`Resolver.check_names`); hardpoints
+    and stops have their own."""
     shared = set(spec.shared)
-    parts = set(s.parts) - {s.ground}
-    for name in sorted(parts):
-        base = name.removesuffix(suffix)
-        if base == name or base not in parts:
-            continue
-        if base in shared:
-            raise fail(f"parts.{name}", f"'{name}' is the other side's '{base}', a shared "
+    side = suffix.removeprefix("_")
+    for name in sorted(spec.shared):
+        copy = name + suffix
+        if copy in s.parts:
+            raise fail(f"parts.{copy}", f"'{copy}' is the other side's '{name}', a shared "
                        f"part (axle.shared): a shared part is declared once for both sides; "
-                       f"remove '{name}' and attach the connections to '{base}'")
-        raise fail(f"parts.{name}", f"'{name}' is the name of the mirrored copy of part "
-                   f"'{base}' on the {name[-len(suffix) + 1:]} side; rename it")
-    for section in ("connections", "springs", "stops"):
-        items = s.raw.get(section) or {}
-        for name in sorted(items):
-            base = name.removesuffix(suffix)
-            if base != name and base in items and \
-                    not declared_once(tuple(items[base]["parts"]), shared, s.ground):
-                raise fail(f"{section}.{name}", f"'{name}' is the name of the mirrored copy "
-                           f"of '{base}' on the {name[-len(suffix) + 1:]} side; rename it")
+                       f"remove '{copy}' and attach the connections to '{name}'")
+    mirrored = {}  # a generated name -> what it copies
+    for name in s.parts:
+        if name not in shared and name != s.ground:
+            mirrored[name + suffix] = f"part '{name}'"
+    for section in ("connections", "springs"):
+        for name, item in (s.raw.get(section) or {}).items():
+            if not kept_once(name, tuple(item["parts"]), spec, s.ground):
+                mirrored[name + suffix] = f"{section[:-1]} '{name}'"
+    sections = {"parts": mirrored, "connections": mirrored, "springs": mirrored,
+                "stops": {n + suffix: f"stop '{n}'" for n in (s.raw.get("stops") or {})},
+                "hardpoints": {n + suffix: f"hardpoint '{n}'" for n in s.hardpoints}}
+    for section, generated in sections.items():
+        for name in sorted(s.raw.get(section) or {}):
+            if name in generated:
+                raise fail(f"{section}.{name}", f"'{name}' is the name of the mirrored "
+                           f"copy of {generated[name]} on the {side} side (the axle names "
+                           "the other corner's items so): it would be taken twice; rename it")
 
 
 def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:
@@ -161,7 +220,7 @@ def _declared_once(s, spec: AxleSpec) -> list[tuple[str, set[str]]]:
     ground, from the config's mapping."""
     out = []
     for name, c in s.raw["connections"].items():
-        if declared_once(c["parts"], spec.shared, s.ground):
+        if kept_once(name, c["parts"], spec, s.ground):
             pts = c["at"] if isinstance(c.get("at"), (list, tuple)) else [c.get("at")]
             names = {p for p in pts if isinstance(p, str)}
             for k in ("axis", "radial", "torsion_axis"):
@@ -195,3 +254,74 @@ def mirrored_bushing(b, override_laws: tuple | None) -> object:
 def declared_once(parts: tuple[str, str], shared, ground: str) -> bool:
     """True for a connection among shared parts and the ground (kept once on an axle)."""
     return set(parts) <= set(shared) | {ground}
+
+
+def kept_once(name: str, parts: tuple[str, str], spec: AxleSpec, ground: str) -> bool:
+    """True for a connection, spring or stop kept once on an axle: among shared parts and
+    the ground, and not listed in ``axle.both_sides``."""
+    return name not in spec.both_sides and declared_once(parts, spec.shared, ground)
+
+
+def item_points(s, name: str) -> list[np.ndarray]:
+    """The points (config frame) of the resolved corner's connection, spring or stop
+    ``name``."""
+    for j in (*s.joints, *s.bushings):
+        if j.name == name:
+            return [j.position_mm]
+    for item, attr in ((s.links, "points_mm"), (s.springs, "seats_mm"),
+                       (s.stops, "points_mm")):
+        for it in item:
+            if it.name == name:
+                return list(getattr(it, attr))
+    return []
+
+
+def check_both_sides(s, spec: AxleSpec, fail) -> None:
+    """Every name of ``axle.both_sides`` is a connection, spring or stop among shared parts
+    and the ground (a corner's are on both sides already), not the steering rack, with every
+    point on the config's side of the centre plane (its mirror is the other side's)."""
+    sections = {sec: s.raw.get(sec) or {} for sec in ("connections", "springs", "stops")}
+    rack = spec.steering.rack if spec.steering is not None else None
+    for i, name in enumerate(spec.both_sides):
+        key = f"axle.both_sides[{i}]"
+        found = [sec for sec, items in sections.items() if name in items]
+        if not found:
+            raise fail(key, f"no connection, spring or stop '{name}'")
+        if name in spec.both_sides[:i]:
+            raise fail(key, f"'{name}' is listed twice")
+        parts = tuple(sections[found[0]][name]["parts"])
+        if not declared_once(parts, spec.shared, s.ground):
+            corner = sorted(set(parts) - set(spec.shared) - {s.ground})
+            raise fail(key, f"'{name}' joins the corner part '{corner[0]}': it is on both "
+                       "sides already (axle.both_sides is for items among shared parts and "
+                       "the ground)")
+        if name == rack:
+            raise fail(key, f"'{name}' is the steering rack (axle.steering.rack), kept once")
+        for p in item_points(s, name):
+            if float(p @ s.outboard) <= CENTRE_PLANE_TOLERANCE_MM:
+                raise fail(f"{found[0]}.{name}", f"listed in axle.both_sides, but its point at "
+                           f"y = {p[1]:.6g} mm is not on the {s.side} side of the vehicle "
+                           "centre plane: its mirror would be on this side")
+
+
+#: the wheel load at rest of ``axle.vehicle.axle_mass_kg`` may differ from the design wheel
+#: load by this factor either way (the static-load analysis may be at another payload);
+#: beyond it, it is a slip (a total mass, a load in N, a mass of the other axle)
+AXLE_MASS_TOLERANCE = 2.0
+
+
+def check_axle_mass(spec: AxleSpec, design_wheel_load_N: float, fail) -> None:
+    """The mass ``axle.vehicle.axle_mass_kg`` gives this axle agrees with the design wheel
+    load (within :data:`AXLE_MASS_TOLERANCE`)."""
+    v = spec.vehicle
+    if v is None or v.axle_mass_kg is None:
+        return
+    mass = getattr(v.axle_mass_kg, v.position)
+    at_rest = mass * 9.80665 / 2.0
+    ratio = at_rest / design_wheel_load_N
+    if not 1.0 / AXLE_MASS_TOLERANCE <= ratio <= AXLE_MASS_TOLERANCE:
+        expected = 2.0 * design_wheel_load_N / 9.80665
+        raise fail(f"axle.vehicle.axle_mass_kg.{v.position}",
+                   f"{mass:g} kg puts {at_rest:.0f} N on each wheel at rest, {ratio:.2f} times "
+                   f"design.wheel_load_N ({design_wheel_load_N:g} N): expected the mass this "
+                   f"({v.position}) axle carries, about {expected:.0f} kg for that design load")

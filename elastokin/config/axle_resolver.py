@@ -13,15 +13,22 @@ import numpy as np
 
 from elastokin.config.axle import (
     MIRROR,
+    check_axle_mass,
+    check_both_sides,
     check_mirror_plane,
     check_names,
+    check_other_side_plane,
     check_shared,
+    check_track,
+    curve_problem,
     declared_once,
+    kept_once,
     mirrored_bushing,
     mirrored_hardpoints,
     other_side,
     steering_ratio,
 )
+from elastokin.config.beams import check_beam_attachments, mirrored_beam, shared_beam
 from elastokin.config.resolver import Resolver
 from elastokin.config.schema import RackSpec
 from elastokin.config.schema_base import AxisBetween
@@ -52,8 +59,8 @@ class MirroredResolver(Resolver):
     def name(self, name: str) -> str:
         return name + self.suffix
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        return not declared_once(parts, self.shared, self.spec.ground)
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        return not kept_once(name, parts, self.spec.axle, self.spec.ground)
 
     def part(self, name: str, key: str) -> str:
         base = super().part(name, key)
@@ -83,7 +90,9 @@ def resolve_suspension(resolver: Resolver, sha256: str, raw, config_sha256: str 
     """The suspension ``resolver``'s config describes: its corner, or with an ``axle:``
     section both corners (:func:`expand_axle`). Arguments as :meth:`Resolver.resolve`."""
     corner = resolver.resolve(sha256, raw, config_sha256, rig_sha256)
-    return corner if resolver.spec.axle is None else expand_axle(resolver, corner)
+    s = corner if resolver.spec.axle is None else expand_axle(resolver, corner)
+    check_beam_attachments(s, resolver.fail)
+    return s
 
 
 def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
@@ -93,8 +102,12 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_shared(corner, spec, resolver.fail)
     check_names(corner, spec, f"_{other_side(corner.side)}", resolver.fail)
     check_mirror_plane(corner, spec, resolver.fail)
+    check_both_sides(corner, spec, resolver.fail)
+    check_other_side_plane(corner, spec, resolver.fail)
+    check_axle_mass(spec, resolver.spec.design.wheel_load_N, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
+    check_track(corner, other, resolver.fail)
     suffix = mirrored.suffix
     joints = corner.joints + other.joints
     steering = None
@@ -107,10 +120,19 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     hardpoints = dict(corner.hardpoints)
     hardpoints.update({n + suffix: v for n, v in mirrored.hardpoints.items()})
     d = resolver.spec.design
-    balance = (d.balance_spring, d.balance_spring + suffix) if d.balance_spring else ()
+    springs = {sp.name for sp in corner.springs + other.springs}
+    balance = tuple(n for n in (d.balance_spring, f"{d.balance_spring}{suffix}")
+                    if d.balance_spring and n in springs)
     axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
                 spec.vehicle, balance)
-    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints,
+    beams = []
+    for b in corner.beams:
+        if b.part in spec.shared:
+            beams.append(shared_beam(b, mirrored.hardpoints, suffix, corner.outboard,
+                                     resolver.fail))
+        else:
+            beams += [b, mirrored_beam(b, mirrored.hardpoints, suffix)]
+    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints, beams=tuple(beams),
                    links=corner.links + other.links, bushings=corner.bushings + other.bushings,
                    springs=corner.springs + other.springs, stops=corner.stops + other.stops,
                    wheels={corner.side: corner.wheel, mirrored.other: other.wheel}, axle=axle)
@@ -168,7 +190,8 @@ def resolve_anti_roll_bar(resolver: Resolver, corner: Suspension, suffix: str
         try:
             law = law_from_spec(a.curve)
         except ValueError as exc:
-            raise resolver.fail(key + ".curve", str(exc)) from None
+            raise resolver.fail(key + ".curve", curve_problem(
+                str(exc), "deflection (deg of twist)", "load (N*mm)")) from None
     return AntiRollBar((part, part + suffix), pos, frame_from_z(axis), law)
 
 

@@ -14,8 +14,14 @@ from pydantic_core import PydanticCustomError
 MAX_STEPS_PER_LOAD_CASE = 100_000
 #: the most points of a bushing force-deflection curve (``deflection`` and ``load`` each)
 MAX_CURVE_POINTS = 10_000
+#: a point's coordinates at most this far from the origin (mm; a car is a few metres long):
+#: beyond, a typo that would make the geometry's arithmetic overflow or lose every digit
+MAX_COORDINATE_MM = 1.0e6
 #: the most solver steps per recorded rig step of the synthetic real suspension
 MAX_SUBSTEPS = 100
+#: the most beam elements on one segment of a beam part, and the most nodes it names
+MAX_ELEMENTS_PER_SEGMENT = 200
+MAX_BEAM_NODES = 100
 #: a wheel spin axis at least this far from vertical, and a bushing's ``radial`` at least this
 #: far from its ``axis`` (deg): closer, toe and camber or the bushing frame are undefined
 MIN_AXIS_ANGLE_DEG = 1.0

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import math
 import os
 import re
 import types
@@ -48,6 +49,14 @@ def yaml_key_path(path: tuple) -> str:
     return out.lstrip(".")
 
 
+class NumberOverflowError(yaml.MarkedYAMLError):
+    """A number in a YAML file too large for a float (``problem_mark``: its place)."""
+
+
+#: YAML tags of numbers
+_INT_TAG, _FLOAT_TAG = "tag:yaml.org,2002:int", "tag:yaml.org,2002:float"
+
+
 class StrictLoader(yaml.SafeLoader):
     """The YAML loader of every file elastokin reads: :class:`yaml.SafeLoader` refusing a key
     that appears twice in one mapping at any nesting level (:class:`DuplicateKeyError`, naming
@@ -68,6 +77,9 @@ class StrictLoader(yaml.SafeLoader):
             for i, item in enumerate(node.value):
                 self.check_unique_keys(item, (*path, i), visited)
             return
+        if isinstance(node, yaml.ScalarNode) and node.tag in (_INT_TAG, _FLOAT_TAG):
+            self.check_number(node, path)
+            return
         if not isinstance(node, yaml.MappingNode):
             return
         first: dict = {}
@@ -85,6 +97,23 @@ class StrictLoader(yaml.SafeLoader):
                 first[key] = key_node.start_mark.line + 1
             self.check_unique_keys(value_node, (*path, key_node.value if key is None else key),
                                    visited)
+
+    def check_number(self, node: yaml.ScalarNode, path: tuple) -> None:
+        """A number too large for a float (``1.0e+400``, an integer of 400 digits; ``.inf``
+        is left to the schema) raises :class:`NumberOverflowError` naming its key path."""
+        try:
+            value = float(self.construct_object(node, deep=True))
+            big = math.isinf(value) and not node.value.lstrip("+-").lower().startswith(".inf")
+        except (ValueError, OverflowError):  # an integer beyond Python's digit limit or a float's
+            big = True
+        if big:
+            text = node.value if len(node.value) <= 24 else f"{node.value[:12]}... " \
+                f"({len(node.value)} characters)"
+            where = f"key '{yaml_key_path(path)}'" if path else "the document"
+            raise NumberOverflowError(
+                problem=f"{where}: the number {text} is too large (a float holds at most "
+                        "about 1.8e308; lengths are in mm, forces in N)",
+                problem_mark=node.start_mark)
 
     def scalar_key(self, key_node: yaml.Node) -> typing.Hashable | None:
         """The constructed key of a scalar key node; None for other (complex) keys."""
@@ -127,7 +156,7 @@ def parse_yaml(text: bytes | str, source: str) -> object:
     :class:`~elastokin.errors.ConfigError` naming ``source`` and the line."""
     try:
         return yaml.load(text, Loader=StrictLoader)
-    except DuplicateKeyError as exc:
+    except (DuplicateKeyError, NumberOverflowError) as exc:
         raise ConfigError(f"{source}: line {exc.problem_mark.line + 1}: {exc.problem}") from None
     except yaml.YAMLError as exc:
         where, problem = _yaml_problem(exc, text)
@@ -250,6 +279,10 @@ def _problem(e: dict, data: object, root: type[BaseModel] | None,
     msg = re.sub(r" or instance of \w+", "", msg)
     if kind == "missing":
         msg = "required key is missing"
+        if loc and isinstance(loc[-1], int):  # a tuple too short: [x, y] for a point
+            msg = f"item [{loc[-1]}] is missing: the list has too few items"
+    if kind == "tuple_type":
+        msg = "expected a list (YAML [a, b, ...]; a point is [x, y, z] in mm)"
     return path, msg
 
 
@@ -337,8 +370,9 @@ def _load(path: str | Path, overrides: dict | None,
     s = suspension_from_dict(data, str(path), _digest(text, every),
                              config_sha256=_digest(text, overrides),
                              rig_sha256=None if rig_file is None
-                             else hashlib.sha256(rig_file[2]).hexdigest())
-    return s if rig_file is None else replace(s, rig_source=rig_file[0])
+                             else hashlib.sha256(rig_file[2]).hexdigest(),
+                             rig_source="" if rig_file is None else rig_file[0])
+    return s
 
 
 def read_rig(path: str | Path) -> tuple[dict, bytes]:
@@ -376,21 +410,27 @@ def load_suspension_with_rig(config_path: str | Path, rig_path: str | Path | Non
 
 
 def suspension_from_dict(data: Mapping, source: str = "<dict>", sha256: str = "", *,
-                         config_sha256: str = "", rig_sha256: str | None = None
-                         ) -> Suspension:
+                         config_sha256: str = "", rig_sha256: str | None = None,
+                         rig_source: str = "") -> Suspension:
     """Validate a config mapping and resolve names, axes and laws (see module docstring).
 
     ``data`` may hold numpy scalars and arrays, tuples and read-only mappings (a
     suspension's ``raw``): they are taken as the plain YAML types first. ``sha256``: what
-    identifies the inputs (default: the SHA-256 of the mapping as YAML); ``config_sha256`` and
-    ``rig_sha256`` as :class:`~elastokin.config.suspension.Suspension` says."""
+    identifies the inputs (default: the SHA-256 of the mapping as YAML); ``config_sha256``,
+    ``rig_sha256`` and ``rig_source`` (a rig file whose load cases are ``data['rig']``: its
+    keys' errors name it) as :class:`~elastokin.config.suspension.Suspension` says."""
     data = plain_data(data)
     try:
         spec = SuspensionFile.model_validate(data)
     except ValidationError as err:
-        raise ConfigError(format_validation_error(source, err, data, SuspensionFile)) from None
+        message = format_validation_error(source, err, data, SuspensionFile)
+        rig_key = f"{source}: key 'rig."
+        if rig_source and message.startswith(rig_key):  # e.g. steps from the design load
+            message = f"{rig_source} (rig file): key '{message[len(rig_key):]}"
+        raise ConfigError(message) from None
     if not sha256:
         sha256 = hashlib.sha256(yaml.safe_dump(data, sort_keys=True).encode()).hexdigest()
-    return resolve_suspension(Resolver(spec, source), sha256, data, config_sha256, rig_sha256)
+    s = resolve_suspension(Resolver(spec, source), sha256, data, config_sha256, rig_sha256)
+    return replace(s, rig_source=rig_source) if rig_source else s
 
 

@@ -4,6 +4,7 @@ the resolved suspension (plain data, no file is read here)."""
 from __future__ import annotations
 
 from elastokin.config.schema import MeasurementsSpec
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 
@@ -41,6 +42,38 @@ def check_measurements(s: Suspension, m: MeasurementsSpec, key: str = "measureme
             raise fail(f"joints.{b.name}.inner",
                        f"bushing '{b.name}': say which part holds the inner (bolted) sleeve: "
                        f"'{b.parts[0]}' or '{b.parts[1]}'")
+
+
+def check_motion(s: Suspension, m: MotionSpec, key: str = "motion") -> None:
+    """Check that the ``motion`` section fits the suspension: every part and the ground have
+    a mark pattern; the other marked bodies are links (a tie rod). Errors name the key."""
+    links = [name for name, c in s.raw.get("connections", {}).items()
+             if c.get("type") == "link"]
+    for p in [s.ground, *s.parts]:
+        if p not in m.marks:
+            raise ConfigError(f"{s.source}: key '{key}.marks': no label pattern for part "
+                              f"'{p}' (every part and the ground '{s.ground}' are measured at "
+                              "every position)")
+    if m.rack_link is not None and (m.rack_link not in links or s.ground not in s.raw[
+            "connections"][m.rack_link]["parts"]):
+        raise ConfigError(f"{s.source}: key '{key}.rack_link': '{m.rack_link}' is not a link "
+                          f"with an end on the ground '{s.ground}' (links: "
+                          f"{', '.join(links) or 'none'})")
+    steered = [n for n, p in m.positions.items() if p.rack_travel_mm]
+    racks = [n for n, c in s.raw.get("connections", {}).items() if c.get("type") == "rack"]
+    if steered and not racks and m.rack_link is None:
+        raise ConfigError(f"{s.source}: key '{key}.positions.{steered[0]}.rack_travel_mm': "
+                          "the suspension has no steering rack (a connection of type rack); "
+                          f"name the link whose end on the ground rides on the rack "
+                          f"('{key}.rack_link', e.g. the tie rod)")
+    if m.wheel_marks is not None and "wheel" in m.marks:
+        raise ConfigError(f"{s.source}: key '{key}.marks.wheel': 'wheel' names the wheel's "
+                          "marks (wheel_marks); rename the body")
+    for body in m.marks:
+        if body not in (s.ground, *s.parts, *links):
+            raise ConfigError(f"{s.source}: key '{key}.marks.{body}': '{body}' is not a part "
+                              f"or a link of the suspension (parts: {', '.join(s.parts)}; "
+                              f"links: {', '.join(links) or 'none'})")
 
 
 def hardpoint_name(p, key: str, source: str) -> str:

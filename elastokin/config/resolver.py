@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from elastokin.config.beams import resolve_beams
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
 from elastokin.config.schema import BushingSpec, LinkSpec, RackSpec, SuspensionFile
 from elastokin.config.schema_base import AxisBetween, AxisSpec, PointSpec
@@ -145,30 +146,37 @@ class Resolver:
         """The resolved name of a corner item (connection, spring, stop)."""
         return name
 
-    def keep(self, parts: tuple[str, str]) -> bool:
-        """Whether a connection between ``parts`` belongs to this corner."""
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        """Whether the connection, spring or stop ``name`` between ``parts`` belongs to this
+        corner."""
         return True
+
+    def attempt(self, make):
+        """``make()``: an item resolved, its error raised (a tolerant resolver,
+        :class:`elastokin.config.draft.TolerantResolver`, records it and returns None)."""
+        return make()
 
     def corner(self) -> CornerItems:
         """The corner's joints, links, bushings, springs, stops and wheel."""
-        s = self.spec
-        joints, links, bushings = [], [], []
-        for name, c in s.connections.items():
-            key = f"connections.{name}"
-            if not self.keep(c.parts):
-                continue
-            parts = self.parts(c.parts, key)
-            if isinstance(c, LinkSpec):
-                pts = self.point_pair(c.at, key + ".at", "a link needs two distinct points")
-                links.append(Link(self.name(name), parts, pts))
-                continue
-            pos = self.point(c.at, key + ".at")
-            if isinstance(c, BushingSpec):
-                bushings.append(self.bushing(self.name(name), c, parts, pos, key))
-                continue
-            joints.append(self.joint(name, c, parts, pos, key))
-        return CornerItems(tuple(joints), tuple(links), tuple(bushings),
-                           tuple(self.springs()), tuple(self.stops()), self.wheel())
+        items = [self.attempt(lambda n=name, c=c: self.connection(n, c))
+                 for name, c in self.spec.connections.items() if self.keep(name, c.parts)]
+        return CornerItems(tuple(i for i in items if isinstance(i, Joint)),
+                           tuple(i for i in items if isinstance(i, Link)),
+                           tuple(i for i in items if isinstance(i, Bushing)),
+                           tuple(self.springs()), tuple(self.stops()),
+                           self.attempt(self.wheel))
+
+    def connection(self, name: str, c) -> Joint | Link | Bushing:
+        """One connection of the config (``connections.<name>``) resolved."""
+        key = f"connections.{name}"
+        parts = self.parts(c.parts, key)
+        if isinstance(c, LinkSpec):
+            pts = self.point_pair(c.at, key + ".at", "a link needs two distinct points")
+            return Link(self.name(name), parts, pts)
+        pos = self.point(c.at, key + ".at")
+        if isinstance(c, BushingSpec):
+            return self.bushing(self.name(name), c, parts, pos, key)
+        return self.joint(name, c, parts, pos, key)
 
     def joint(self, name: str, c, parts, pos, key: str) -> Joint:
         kind = c.type
@@ -212,47 +220,47 @@ class Resolver:
                 self.point(p.centre_of_mass, f"parts.{name}.centre_of_mass")
         c = self.corner()
         self.check_design(list(c.bushings))
+        beams = resolve_beams(self)
         res = Suspension(
             name=s.name, source=self.source, sha256=sha256, frame=s.frame, side=s.side,
             ground=s.ground, parts=dict(s.parts), hardpoints=self.hardpoints,
             wheel=c.wheel, joints=c.joints, links=c.links, bushings=c.bushings,
             springs=c.springs, design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
-            kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
-            rig_sha256=rig_sha256, stops=c.stops,
+            motion=s.motion, kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
+            rig_sha256=rig_sha256, stops=c.stops, beams=beams,
         )
         return res
 
     def springs(self) -> list[Spring]:
-        springs = []
-        for name, sp in self.spec.springs.items():
-            key = f"springs.{name}"
-            if not self.keep(sp.parts):
-                continue
-            parts = self.parts(sp.parts, key)
-            seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
-            springs.append(Spring(self.name(name), parts, seats, sp.rate_N_per_mm,
-                                  sp.preload_N, sp.free_length_mm))
-        return springs
+        springs = [self.attempt(lambda n=name, sp=sp: self.spring(n, sp))
+                   for name, sp in self.spec.springs.items() if self.keep(name, sp.parts)]
+        return [sp for sp in springs if sp is not None]
+
+    def spring(self, name: str, sp) -> Spring:
+        key = f"springs.{name}"
+        parts = self.parts(sp.parts, key)
+        seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
+        return Spring(self.name(name), parts, seats, sp.rate_N_per_mm, sp.preload_N,
+                      sp.free_length_mm)
 
     def stops(self) -> list[Stop]:
-        stops = []
-        for name, st in self.spec.stops.items():
-            key = f"stops.{name}"
-            if not self.keep(st.parts):
-                continue
-            parts = self.parts(st.parts, key)
-            pts = self.point_pair(st.points, key + ".points",
-                                  "the two points of a stop coincide")
-            if st.type == "bump" and st.clearance_mm >= np.linalg.norm(pts[1] - pts[0]):
-                raise self.fail(key + ".clearance_mm", "a bump stop's clearance must be less "
-                                "than the distance of its points")
-            try:
-                law = law_from_spec(st.curve)
-            except ValueError as exc:
-                raise self.fail(key + ".curve", str(exc)) from None
-            stops.append(Stop(self.name(name), st.type, parts, pts, st.clearance_mm, law))
-        return stops
+        stops = [self.attempt(lambda n=name, st=st: self.stop(n, st))
+                 for name, st in self.spec.stops.items() if self.keep(name, st.parts)]
+        return [st for st in stops if st is not None]
+
+    def stop(self, name: str, st) -> Stop:
+        key = f"stops.{name}"
+        parts = self.parts(st.parts, key)
+        pts = self.point_pair(st.points, key + ".points", "the two points of a stop coincide")
+        if st.type == "bump" and st.clearance_mm >= np.linalg.norm(pts[1] - pts[0]):
+            raise self.fail(key + ".clearance_mm", "a bump stop's clearance must be less "
+                            "than the distance of its points")
+        try:
+            law = law_from_spec(st.curve)
+        except ValueError as exc:
+            raise self.fail(key + ".curve", str(exc)) from None
+        return Stop(self.name(name), st.type, parts, pts, st.clearance_mm, law)
 
     def check_label(self) -> None:
         """The model's ``label`` is not that of another model of a K&C run."""

@@ -13,14 +13,18 @@ from typing import Annotated, Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
+from elastokin.config.plausibility import plausible
 from elastokin.config.schema_axle import AxleSpec, StopSpec
 from elastokin.config.schema_base import (
     AxisSpec,
     CurveSpec,
+    Point3,
     PointSpec,
     StrictModel,
     Vector3,
 )
+from elastokin.config.schema_beam import BeamSpec
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.schema_rig import RigSpec
 
 
@@ -51,6 +55,7 @@ class PartSpec(StrictModel):
     mass_kg: float | None = Field(default=None, gt=0)
     centre_of_mass: PointSpec | None = None
     description: str = ""
+    beam: BeamSpec | None = None  # a flexible part made of beam elements (rigid without)
 
 
 class WheelSpec(StrictModel):
@@ -59,6 +64,8 @@ class WheelSpec(StrictModel):
     spin_axis: AxisSpec
     loaded_radius_mm: float = Field(gt=0)
     tyre_rate_N_per_mm: float | None = Field(default=None, gt=0)  # ride rate (in series)
+
+    _plausible = field_validator("loaded_radius_mm", "tyre_rate_N_per_mm")(plausible)
 
 
 class _Joint(StrictModel):
@@ -87,6 +94,22 @@ class CylindricalSpec(_Joint):
 
 class TranslationalSpec(_Joint):
     type: Literal["translational"]
+    axis: AxisSpec
+
+
+class PlanarSpec(_Joint):
+    """Planar joint: part 2 slides in and turns about the normal of a plane of part 1 through
+    ``at`` normal to ``axis`` (a guide that leaves heave and roll free)."""
+
+    type: Literal["planar"]
+    axis: AxisSpec
+
+
+class InplaneSpec(_Joint):
+    """Point-in-plane joint: the point ``at`` of part 2 stays in the plane of part 1 normal to
+    ``axis`` (one constraint)."""
+
+    type: Literal["inplane"]
     axis: AxisSpec
 
 
@@ -167,7 +190,7 @@ class BushingSpec(_Joint):
 
 ConnectionSpec = Annotated[
     SphericalSpec | FixedSpec | RevoluteSpec | CylindricalSpec | TranslationalSpec
-    | UniversalSpec | RackSpec | LinkSpec | BushingSpec,
+    | PlanarSpec | InplaneSpec | UniversalSpec | RackSpec | LinkSpec | BushingSpec,
     Field(discriminator="type"),
 ]
 
@@ -382,7 +405,7 @@ class SuspensionFile(StrictModel):
     frame: Frame
     side: Literal["left", "right"]
     ground: str
-    hardpoints: dict[str, Vector3]
+    hardpoints: dict[str, Point3]
     parts: dict[str, PartSpec]
     wheel: WheelSpec
     connections: dict[str, ConnectionSpec]
@@ -394,6 +417,7 @@ class SuspensionFile(StrictModel):
     rig: RigSpec = RigSpec()
     reference: ReferenceSpec = ReferenceSpec()
     measurements: MeasurementsSpec | None = None
+    motion: MotionSpec | None = None  # joints from motion (docs/measurements.md)
     kc_test: KCTestSpec | None = None
     axle: AxleSpec | None = None
 

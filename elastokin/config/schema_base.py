@@ -3,12 +3,25 @@ N, deg (README "Config reference")."""
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Annotated
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
 from elastokin.config import bounds
 
+
+def _within_reach(v: float) -> float:
+    if abs(v) > bounds.MAX_COORDINATE_MM:
+        raise ValueError(f"{v:g} mm: a point more than {bounds.MAX_COORDINATE_MM:,.0f} mm "
+                         "from the origin (a typo, or not in mm?)")
+    return v
+
+
 Vector3 = tuple[float, float, float]
-PointSpec = str | Vector3
+#: a point's coordinate (mm), within MAX_COORDINATE_MM of the origin
+Coordinate = Annotated[float, AfterValidator(_within_reach)]
+Point3 = tuple[Coordinate, Coordinate, Coordinate]
+PointSpec = str | Point3
 
 
 class StrictModel(BaseModel):

@@ -28,6 +28,7 @@ from elastokin.config.schema import (
     SolverSpec,
 )
 from elastokin.config.schema_axle import VehicleSpec
+from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.schema_rig import RigSpec
 from elastokin.errors import ConfigError
 from elastokin.physics.laws import DirectionLaw
@@ -181,6 +182,49 @@ class Stop(ReadOnlyArrays):
 
 
 @dataclass(frozen=True)
+class BeamSection:
+    """Stiffness of a beam's cross-section in its section axes (x along the beam, y and z
+    across it; :mod:`elastokin.physics.beams`): axial ``EA_N`` (N), bending about y and about z
+    (N*mm^2), torsion ``GJ_Nmm2`` (N*mm^2, N*mm per rad/mm of twist), shear along y and z
+    (N, shear correction included). Uniform along the beam."""
+
+    EA_N: float
+    EI_y_Nmm2: float
+    EI_z_Nmm2: float
+    GJ_Nmm2: float
+    GA_y_N: float
+    GA_z_N: float
+
+
+@dataclass(frozen=True)
+class Beam(ReadOnlyArrays):
+    """A flexible part made of beam elements (:mod:`elastokin.mbs.beams`).
+
+    ``nodes_mm`` (n, 3): the named hardpoints ``node_names`` along its centroid line, config
+    frame, design position, which is also its stress-free shape; per segment (node i to i + 1)
+    ``frames`` (n - 1, 3, 3): its section axes as columns, and ``shear_centre_mm`` (n - 1, 3):
+    the shear centre's offset from the node line (config frame); ``elements_per_segment``
+    beam elements on each segment. ``rigid``: built as one rigid body (a model variant,
+    :func:`elastokin.config.variants.rigid_beams`).
+    """
+
+    part: str
+    node_names: tuple[str, ...]
+    nodes_mm: np.ndarray
+    frames: np.ndarray
+    shear_centre_mm: np.ndarray
+    section: BeamSection
+    elements_per_segment: int
+    rigid: bool = False
+    array_fields = ("nodes_mm", "frames", "shear_centre_mm")
+
+    @property
+    def length_mm(self) -> float:
+        """Length of the node line (mm)."""
+        return float(np.linalg.norm(np.diff(self.nodes_mm, axis=0), axis=1).sum())
+
+
+@dataclass(frozen=True)
 class Steering(ReadOnlyArrays):
     """The steering rack: ``joint`` (the config's type-rack connection, a sliding joint on an
     axle) moves ``part`` along ``axis`` (unit, config frame) at ``position_mm``; held at
@@ -268,6 +312,7 @@ class Suspension:
     reference: ReferenceSpec = field(default_factory=ReferenceSpec)
     raw: dict = field(repr=False, default_factory=dict)
     measurements: MeasurementsSpec | None = None
+    motion: MotionSpec | None = None
     kc_test: KCTestSpec | None = None
     rig_source: str = ""  # a rig file given apart from the config ("": the config's rig)
     label: str = "initial"  # the model's label in results (the config's ``label``)
@@ -277,6 +322,8 @@ class Suspension:
     #: every wheel by side (both on an axle; ``wheel`` is the config side's)
     wheels: dict[str, Wheel] = field(default_factory=dict)
     axle: Axle | None = None
+    #: the flexible parts (beam elements); every other part is rigid
+    beams: tuple[Beam, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.wheels:
@@ -304,6 +351,14 @@ class Suspension:
         """The sides with a wheel, the config's first."""
         return tuple(self.wheels)
 
+    def rig_key(self, key: str) -> str:
+        """Where the rig's ``key`` (e.g. ``steering.amplitude_deg``) is set, as a message
+        begins: ``RIG (rig file): key 'KEY'`` when a rig file replaced the config's rig
+        section, else ``CONFIG: key 'rig.KEY'``."""
+        if self.rig_source:
+            return f"{self.rig_source} (rig file): key '{key}'"
+        return f"{self.source}: key 'rig.{key}'"
+
     def on_side(self, side: str) -> Suspension:
         """This suspension as seen from the wheel on ``side``: ``side`` and ``wheel`` are that
         wheel's (everything per wheel - toe, camber, the rig's pad - then reads it)."""
@@ -312,6 +367,15 @@ class Suspension:
         if side not in self.wheels:
             raise ConfigError(f"{self.source}: no wheel on the {side} side")
         return replace(self, side=side, wheel=self.wheels[side])
+
+    @property
+    def shared_beams(self) -> tuple[str, ...]:
+        """The flexible beam parts shared by both sides of an axle (a twist beam's cross
+        beam): the wheels' motion in roll is then set by the beam's elasticity, not by the
+        joints, and differs from their motion in bump."""
+        if self.axle is None:
+            return ()
+        return tuple(b.part for b in self.beams if not b.rigid and b.part in self.axle.shared)
 
     @property
     def forward(self) -> np.ndarray:

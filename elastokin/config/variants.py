@@ -69,6 +69,13 @@ def kinematic(suspension: Suspension) -> Suspension:
     return dataclasses.replace(suspension, bushings=bushings, kinematic=True)
 
 
+def rigid_beams(suspension: Suspension) -> Suspension:
+    """Every flexible beam part built as one rigid part (the same axle with a rigid cross
+    beam)."""
+    beams = tuple(dataclasses.replace(b, rigid=True) for b in suspension.beams)
+    return dataclasses.replace(suspension, beams=beams)
+
+
 def compliant(suspension: Suspension) -> Suspension:
     """Every bushing modelled by its laws (the design preloads are those of this model)."""
     if not any(b.kinematic for b in suspension.bushings):

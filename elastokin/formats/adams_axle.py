@@ -17,6 +17,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from elastokin.config.axle import declared_once
 from elastokin.config.suspension import Suspension
 from elastokin.formats.adams_property_files import (
     UNITS_LINES,
@@ -38,6 +39,7 @@ __all__ = [
     "axle_subsystems",
     "centre_slope",
     "curve_file_text",
+    "kept_once_hardpoints",
     "mm_per_rev",
     "rack_ratio_rad_per_m",
     "steering_parameters",
@@ -125,6 +127,26 @@ def axle_subsystems(s: Suspension) -> dict[str, AxleSubsystem]:
     if s.axle.steering is not None and "steering" not in out:
         out["steering"] = AxleSubsystem("steering", (), (), ())
     return out
+
+
+def kept_once_hardpoints(s: Suspension) -> frozenset[str]:
+    """On an axle, the config's hardpoints that only connections, springs and stops kept once
+    name (among shared parts and the ground, not in ``axle.both_sides``: a Panhard rod's ends,
+    a Watt's linkage's): ADAMS/Car's ``single`` hardpoints. Empty for a corner."""
+    raw = s.raw
+    if s.axle is None:
+        return frozenset()
+    names = set(raw["hardpoints"])
+    both = set((raw["axle"] or {}).get("both_sides") or ())
+    once, mirrored = set(), set()
+    for section in ("connections", "springs", "stops"):
+        for item, spec in (raw.get(section) or {}).items():
+            kept = item not in both and declared_once(tuple(spec["parts"]), s.axle.shared,
+                                                      s.ground)
+            (once if kept else mirrored).update(_points(spec, names))
+    rest = {k: v for k, v in raw.items()
+            if k not in ("hardpoints", "connections", "springs", "stops", "axle")}
+    return frozenset(once - mirrored - _points(rest, names))
 
 
 def centre_slope(law: DirectionLaw) -> float:

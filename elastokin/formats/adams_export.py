@@ -41,6 +41,7 @@ from elastokin.formats.adams_axle import (
     assembly_text,
     axle_subsystems,
     curve_file_text,
+    kept_once_hardpoints,
     steering_parameters,
 )
 from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
@@ -226,6 +227,17 @@ def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
     return dump_config(data, "\n".join(head), flow=False)
 
 
+def beam_warning(s: Suspension) -> str:
+    """What the export leaves out of a suspension with flexible beam parts."""
+    names = ", ".join(f"'{b.part}'" for b in s.beams)
+    return (f"the flexible beam part(s) {names} are not exported: ADAMS/Car takes a twist "
+            "beam's cross beam as a flexible body (an MNF from a finite-element model: "
+            "_twist_beam_advanced, configuration 'Flexible body') or as its template's own "
+            "beam parts, neither of which a subsystem file carries; its nodes are exported as "
+            "hardpoints and its section is written in the subsystem file's header comments, "
+            "and import-adams takes the beam from the template config")
+
+
 def _preloads(s: Suspension, bushing_preload):
     if bushing_preload is not None:
         return bushing_preload
@@ -260,6 +272,8 @@ def export_adams(s: Suspension, out_dir: str | Path,
     force = spring_force or {}
     spec = spec or subsystem_spec(s, mapping, warnings=warnings,
                                   default_database=Path(out_dir).name.removesuffix(".cdb"))
+    if s.beams and warnings is not None:
+        warnings.append(beam_warning(s))
     parts = axle_subsystems(s)
     specs = {role: spec if role == "suspension" else section_spec(s, mapping, role, spec)
              for role in parts}
@@ -277,7 +291,8 @@ def export_adams(s: Suspension, out_dir: str | Path,
     files, bus_files, written, extra = {}, {}, {}, {}
     for role, part in parts.items():
         sp = specs[role]
-        rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints)
+        rows, written[role] = hardpoint_rows(s, _section(mapping, role), part.hardpoints,
+                                             kept_once_hardpoints(s))
         brows, more = bushing_rows(s, sp, part.bushings, usages, preload)
         bus_files.update(more)
         params, extra[role] = _parameters(s, role, mapping)

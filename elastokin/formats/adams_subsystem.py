@@ -171,12 +171,15 @@ def adams_name(mapping: AdamsMapping | None, name: str, default_side: str
     return adams, side or (mapping.side if mapping and mapping.side else default_side)
 
 
-def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str, ...]
+def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str, ...],
+                   single: frozenset[str] = frozenset()
                    ) -> tuple[list[HardpointRow], dict[str, tuple[str, str]]]:
     """The ``[HARDPOINT]`` rows of a suspension's hardpoints ``names`` (the corner's names on
     an axle: their other-side copies are written with them) in the ADAMS frame and, per
-    elastokin hardpoint, the (ADAMS name, side) it was written as. Two points on one ADAMS
-    hardpoint and side must be the same point (ConfigError otherwise)."""
+    elastokin hardpoint, the (ADAMS name, side) it was written as: ``single`` rows for the
+    points on the centre plane and for those named in ``single`` (on an axle, the points only
+    items kept once use: a Panhard rod's ends), unless the mapping gives their side. Two
+    points on one ADAMS hardpoint and side must be the same point (ConfigError otherwise)."""
     per: dict[str, dict[str, tuple[np.ndarray, list[str]]]] = {}
     written = {}
     for name in names:
@@ -184,10 +187,13 @@ def hardpoint_rows(s: Suspension, mapping: AdamsMapping | None, names: tuple[str
         entries = [(name, side)]
         if s.axle is not None:
             twin = name + s.axle.suffix
-            if _on_centre_plane(s, name, twin) and not _side_given(mapping, name):
+            if (name in single or _on_centre_plane(s, name, twin)) and \
+                    not _side_given(mapping, name):
                 side = "single"  # a point of a part declared once (the rack, the bar centre)
             other = {"left": "right", "right": "left"}.get(side, side)
-            entries = [(name, side), (twin, other)]
+            # a point only items kept once use has no other-side copy in the axle
+            entries = [(name, side)] + ([] if name in single and side == "single"
+                                        else [(twin, other)])
         written[name] = (adams, side)
         for key, pside in entries:
             _add_point(per.setdefault(adams, {}), adams, pside, key,
@@ -272,6 +278,7 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
              "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
              "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
              "$ design position, bushing frame, on the I part; orientations are the template's.",
+             *(beam_lines(s) if spec.major_role == "suspension" else []),
              rule("MDI_HEADER"), "[MDI_HEADER]", key_line("FILE_TYPE", "sub", 12),
              key_line("FILE_VERSION", 7.0, 12), key_line("FILE_FORMAT", "ASCII", 12),
              rule("SUBSYSTEM_HEADER"), "[SUBSYSTEM_HEADER]",
@@ -294,3 +301,21 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
         lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", sp)
     lines += parameter_lines(parameters or [])
     return "\n".join(lines) + "\n"
+
+
+def beam_lines(s: Suspension) -> list[str]:
+    """Comment lines giving each flexible beam part, which the file does not carry (ADAMS/Car
+    takes a flexible part as a flexible body or its template's own beams): its nodes (the
+    hardpoints above) and section, to rebuild it."""
+    out = []
+    for b in s.beams:
+        sec = b.section
+        out += [f"$ NOT EXPORTED: elastokin flexible beam part '{b.part}' (beam elements), nodes "
+                f"{', '.join(b.node_names)} (hardpoints above), {b.elements_per_segment} "
+                "elements per segment;",
+                f"$   section: EA {sec.EA_N:.6g} N, EI_y {sec.EI_y_Nmm2:.6g} N*mm^2, EI_z "
+                f"{sec.EI_z_Nmm2:.6g} N*mm^2, GJ {sec.GJ_Nmm2:.6g} N*mm^2, GA_y {sec.GA_y_N:.6g} "
+                f"N, GA_z {sec.GA_z_N:.6g} N;",
+                "$   shear centre from the node line (config frame, mm, per segment): "
+                + "; ".join(" ".join(number(v) for v in e) for e in b.shear_centre_mm)]
+    return out

@@ -88,24 +88,41 @@ def read_part(part: str, spec, path: Path) -> PartMeasurement:
 
 def read_assembly(spec, path: Path, parts: list[str]) -> tuple[str, dict[str, np.ndarray]]:
     """The assembled marks of each part (unordered), selected by the label patterns."""
+    return read_marks(path, {p: spec.marks[p] for p in parts})
+
+
+def read_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
+               ) -> tuple[str, dict[str, np.ndarray]]:
+    """The marks of each body (unordered, the file's frame, mm) in a file of many bodies'
+    marks, selected by each body's label pattern (``fnmatch``); 3 or 4 per body. Returns the
+    file's name and the marks."""
+    source, marks, _ = read_labelled_marks(path, patterns, what)
+    return source, marks
+
+
+def read_labelled_marks(path: Path, patterns: dict[str, str], what: str = "assembled"
+                        ) -> tuple[str, dict[str, np.ndarray], dict[str, list[str]]]:
+    """:func:`read_marks`, with each body's marks' labels in the same order."""
     data = read_points(path)
-    out: dict[str, list] = {p: [] for p in parts}
+    out: dict[str, list] = {p: [] for p in patterns}
+    labels: dict[str, list[str]] = {p: [] for p in patterns}
     for label in data.order:
-        owners = [p for p in parts if fnmatch.fnmatchcase(label, spec.marks[p])]
+        owners = [p for p in patterns if fnmatch.fnmatchcase(label, patterns[p])]
         if len(owners) > 1:
             raise MeasurementError(f"{data.source}: mark '{label}' matches the patterns of "
                                    f"parts {', '.join(owners)}")
         if owners:
             out[owners[0]].append(data.points[label])
+            labels[owners[0]].append(label)
     for p, pts in out.items():
         if len(pts) < 3:
             raise MeasurementError(
-                f"{data.source}: part '{p}': {len(pts)} assembled mark(s) match the label "
-                f"pattern '{spec.marks[p]}'; at least 3 usable marks are needed for its pose")
+                f"{data.source}: part '{p}': {len(pts)} {what} mark(s) match the label "
+                f"pattern '{patterns[p]}'; at least 3 usable marks are needed for its pose")
         if len(pts) > 4:
-            raise MeasurementError(f"{data.source}: part '{p}': {len(pts)} assembled marks "
-                                   f"match '{spec.marks[p]}'; a part has 4 marks")
-    return data.source, {p: np.array(v) for p, v in out.items()}
+            raise MeasurementError(f"{data.source}: part '{p}': {len(pts)} {what} marks "
+                                   f"match '{patterns[p]}'; a part has 4 marks")
+    return data.source, {p: np.array(v) for p, v in out.items()}, labels
 
 
 def read_truth(path: Path) -> dict[str, np.ndarray]:

@@ -203,6 +203,22 @@ def _check_sweep(path, column: str, x: np.ndarray, lines: Sequence[int],
     return _branches(turns, x.size)
 
 
+def _check_other_inputs(path, load_case: str, names, display, channels) -> None:
+    """The other wheel's input column (a per-wheel input given for both wheels) varies as the
+    first does: a constant one is a wheel the load case does not drive, which only single
+    wheel travel has (its held wheel)."""
+    if load_case == "single_wheel_travel":
+        return
+    for name in input_columns(load_case, names)[1:]:
+        x = channels[name]
+        if np.ptp(x) == 0:
+            k = names.index(name)
+            raise MeasurementError(
+                f"{path}: column '{display[k]}': the input of this wheel is constant "
+                f"({x[0]:g}) while '{display[0]}' sweeps; in {load_case} the rig drives both "
+                "wheels (only single_wheel_travel holds one): check the column")
+
+
 # --------------------------------------------------------------------------------------- read
 
 
@@ -375,6 +391,7 @@ def read_kc_test(path: str | Path,
     data = np.array(rows, float).reshape(len(rows), len(names)) * np.array(header.factors)
     channels = {name: data[:, k].copy() for k, name in enumerate(names)}
     branches = _check_sweep(p, display[0], channels[names[0]], row_lines, jitter_tolerance)
+    _check_other_inputs(p, load_case, names, display, channels)
 
     warnings = []
     if header.unknown:

@@ -14,6 +14,8 @@ load: ``rise``). Units mm, N, N*mm, deg.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from elastokin.config.confined import data_file, data_folder
@@ -21,6 +23,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.errors import MeasurementError
 from elastokin.formats.kc_test import KCTest, read_kc_test
 from elastokin.rig.channels import CHANNELS, LOAD_CASES, TEST_CHANNELS, Channel
+from elastokin.rig.drives import why_not_run
 from elastokin.rig.sweeps import Sweep
 
 #: branch names as the rig sweeps each load case (see the module docstring)
@@ -30,6 +33,10 @@ BRANCHES = {
     "vertical_force": ("approach", "rise", "fall"),
 }
 FORCE_BRANCHES = ("rise", "fall", "return")
+
+
+class KCTestWarning(UserWarning):
+    """A K&C test file that is read but cannot be used (its load case never runs)."""
 
 
 def wheel_sign(channel: Channel, suspension: Suspension) -> float:
@@ -137,7 +144,11 @@ def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
     """The config's ``kc_test`` files as sweeps and the files read: per load case found, one
     sweep per wheel the file holds and the suspension has (:attr:`Sweep.side` "" for a
     one-wheel file: the config side's), the config side's sweeps first. A file named in
-    ``kc_test.files`` must exist; otherwise ``<load case>.csv`` is read when present."""
+    ``kc_test.files`` must exist; otherwise ``<load case>.csv`` is read when present. A file
+    whose load case no model of the suspension can run (:func:`~elastokin.rig.drives
+    .why_not_run`: a roll test on a corner, a steering test on an axle without steering) is
+    read, then left out with a :class:`KCTestWarning` naming it, as is one whose load case
+    the rig leaves out (unless the stiffness fit runs it); when every file is, an error."""
     s = suspension
     spec = s.kc_test
     if spec is None:
@@ -147,7 +158,9 @@ def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
         if case not in LOAD_CASES:
             raise MeasurementError(f"{s.source}: key 'kc_test.files.{case}': unknown load case "
                                    f"(expected one of {', '.join(LOAD_CASES)})")
-    sweeps, files = [], []
+    # the stiffness fit runs the test's corner cases whatever the rig (kc_job.fits_stiffness)
+    fitted = spec.stiffness_identification.enabled and bool(s.bushings) and not s.kinematic
+    sweeps, files, unused = [], [], []
     for case in LOAD_CASES:
         # inside the config's folders, links followed (the folder may come from anyone)
         key = f"kc_test.files.{case}" if case in spec.files else "kc_test.folder"
@@ -161,8 +174,17 @@ def read_test_sweeps(suspension: Suspension) -> tuple[list[Sweep], list[str]]:
         if test.load_case != case:
             raise MeasurementError(f"{path}: holds load case '{test.load_case}', but the "
                                    f"config reads it as '{case}'")
-        sweeps += [to_sweep(test, s, side) for side in _wheels_of(test, s)]
         files.append(str(path))
+        why = why_not_run(s, case, fitted)
+        if why is not None:  # read (a bad file still fails), then left out with a word
+            unused.append(f"{path}: {why}")
+            warnings.warn(KCTestWarning(f"{path}: K&C test of {case} ignored: no load case "
+                                        f"of {s.source} can use it ({why})"), stacklevel=2)
+            continue
+        sweeps += [to_sweep(test, s, side) for side in _wheels_of(test, s)]
+    if unused and not sweeps:
+        raise MeasurementError(f"{s.source}: key 'kc_test': no K&C test file in {folder} that "
+                               f"this config's load cases can use ({'; '.join(unused)})")
     if not sweeps:
         raise MeasurementError(f"{s.source}: key 'kc_test': no K&C test file in {folder} "
                                f"(expected <load case>.csv, e.g. parallel_travel.csv)")

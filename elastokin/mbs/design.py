@@ -16,8 +16,9 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, compliant, kinematic
 from elastokin.errors import ModelError, SolverError
+from elastokin.mbs.assembly import system_jacobian
 from elastokin.mbs.bushings import BALANCING_ROTATION
-from elastokin.mbs.exudyn_api import exu, exudyn_call
+from elastokin.mbs.exudyn_api import exudyn_call
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.solve import simulation_settings, solve_path
@@ -255,13 +256,7 @@ def redundant_joints(model: SuspensionModel, supports: list[str]) -> list[str]:
 
 
 def _constraint_jacobian(model: SuspensionModel) -> np.ndarray:
-    mbs, src = model.mbs, model.suspension.source
-    mbs.Assemble()
-    solver = exu.MainSolverStatic()
-    ss = simulation_settings(model, 1)
-    exudyn_call(lambda: solver.InitializeSolver(mbs, ss), f"{src}: assembly check")
-    exudyn_call(lambda: solver.ComputeNewtonJacobian(mbs, ss), f"{src}: assembly check")
-    return np.asarray(solver.GetSystemJacobian())
+    return system_jacobian(model, simulation_settings(model, 1), "assembly check")
 
 
 def check_assembly(suspension: Suspension) -> None:
@@ -296,10 +291,16 @@ def _check_wheel_located(model: SuspensionModel, supports: list[str]) -> None:
     finally:
         _activate(model, objs, False)
     n2 = mbs.systemData.ODE2Size()
-    cq = jac[n2:, :n2]
+    cq = np.vstack([jac[n2:, :n2], model.rigid_beam_rows()])  # beams held rigid
     _, sv, vt = np.linalg.svd(cq)
     rank = int(np.sum(sv > 1e-9 * sv[0]))
     null = vt[rank:].T  # free motions of the joints' skeleton (incl. idle spins)
+    for part, beam in model.beams.items():
+        if null.size and np.max(np.linalg.norm(null[beam.coordinates()], axis=0)) > 1e-6:
+            raise ModelError(
+                f"{src}: the beam part '{part}' can move without deforming (with bushings "
+                "replaced by their ideal joints and the contact patches held): attach it at "
+                "more of its nodes or with joints that hold its rotations")
     for wheel in model.wheel_parts.values():
         i0 = mbs.GetNodeODE2Index(model.node[wheel])
         if not (null.size and np.max(np.linalg.norm(null[i0:i0 + 6], axis=0)) > 1e-6):

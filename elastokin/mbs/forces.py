@@ -13,8 +13,13 @@ def _marker_rotation(model: SuspensionModel, obj: int, k: int) -> np.ndarray:
     mbs = model.mbs
     m = mbs.GetObject(obj)["markerNumbers"][k]
     marker = mbs.GetMarker(m)
+    local = np.asarray(marker["localHT"])[:3, :3] if marker.get("localHT") is not None \
+        else np.eye(3)
+    if "nodeNumber" in marker:  # at a node of a beam part
+        R = np.asarray(mbs.GetNodeOutput(marker["nodeNumber"],
+                                         exu.OutputVariableType.RotationMatrix))
+        return R.reshape(3, 3) @ local
     body = marker["bodyNumber"]
-    local = np.asarray(marker["localHT"])[:3, :3] if "localHT" in marker else np.eye(3)
     if body == model.ground:
         return local
     R = np.asarray(mbs.GetObjectOutputBody(body, exu.OutputVariableType.RotationMatrix,

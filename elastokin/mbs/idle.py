@@ -56,7 +56,8 @@ def idle_axes(model) -> dict[str, list[np.ndarray]]:
             mbs.SetObjectParameter(hold, "activeConnector", False)
         exudyn_call(mbs.Assemble, f"{s.source}: finding idle spins")
     n2 = mbs.systemData.ODE2Size()
-    _, sv, vt = np.linalg.svd(jac[n2:, :n2])
+    # a beam part counts as rigid: its deformations are held by its stiffness
+    _, sv, vt = np.linalg.svd(np.vstack([jac[n2:, :n2], model.rigid_beam_rows()]))
     rank = int(np.sum(sv > 1e-9 * sv[0]))
     null = vt[rank:]
     out: dict[str, list[np.ndarray]] = {}

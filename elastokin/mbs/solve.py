@@ -16,8 +16,9 @@ from exudyn.advancedUtilities import CreateSymbolicUserFunction
 
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs import friction
+from elastokin.mbs.assembly import free_parts, free_parts_message
 from elastokin.mbs.exudyn_api import exu, exudyn_call
-from elastokin.mbs.model import ABSOLUTE_TOLERANCE, DEG, SuspensionModel
+from elastokin.mbs.model import DEG, SuspensionModel
 from elastokin.mbs.user_functions import make_path_function
 from elastokin.physics.states import ModelState, PartPoses
 
@@ -37,7 +38,7 @@ def simulation_settings(model: SuspensionModel, steps: int):
     st.stepInformation = 0
     st.newton.useModifiedNewton = sv.modified_newton
     st.newton.relativeTolerance = sv.newton_tolerance
-    st.newton.absoluteTolerance = ABSOLUTE_TOLERANCE
+    st.newton.absoluteTolerance = model.absolute_tolerance
     st.newton.maxIterations = sv.max_newton_iterations
     ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
     # work Exudyn does for nothing here (issue 28, item 6; the Newton iterates, hence every
@@ -121,6 +122,8 @@ def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: s
         n += 1
     ts = np.linspace(0.0, 1.0, n + 1)
     applied = set_attachment_paths(model, inputs, ts, n)
+    if model.load_recorder is not None:
+        model.load_recorder.update()  # sensors of attachments added since the last solve
     rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
     states = [model_state(model, row, {k: v[i] for k, v in applied.items()})
               for i, row in enumerate(rows)]
@@ -183,6 +186,9 @@ def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
         finally:
             mbs.systemData.SetODE2Coordinates(q0, initial)
     if not ok or len(rows) < n:
+        free = free_parts(model, simulation_settings(model, 1))  # a singular Jacobian?
+        if free:
+            raise ModelError(free_parts_message(model, free))
         sv = model.suspension.solver
         raise SolverError(
             f"{label}: static solve did not converge after step {len(rows)} of {n} "
@@ -220,17 +226,15 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             break
         rows.append(hit[-1])
     idx = np.asarray(rows, int)
-    picked = combined_sensors({k: v[idx, 1:] for k, v in data.items()}, model)
-    return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
-
-
-def current_row(model: SuspensionModel) -> dict[str, np.ndarray]:
-    """Every sensor's value in the model's current configuration (whatever state was set),
-    in the form of one row of :func:`recorded`."""
-    current = exu.ConfigurationType.Current
-    data = {k: np.atleast_1d(np.asarray(model.mbs.GetSensorValues(v, current), float))[None, :]
-            for k, v in model.sensors.items()}
-    return {k: v[0] for k, v in combined_sensors(data, model).items()}
+    loads = None
+    if model.load_recorder is not None and idx.size:  # from the sensors as stored
+        loads = model.load_recorder.tables(data, idx)
+    picked = combined_sensors({k: v[idx, 1:] for k, v in data.items()
+                               if not k.startswith("load:")}, model)
+    rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
+    for i, row in enumerate(rows):
+        row["loads"] = None if loads is None else loads.step(i)
+    return rows
 
 
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
@@ -249,8 +253,8 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
 
 def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
                 applied: dict[str, np.ndarray]) -> ModelState:
-    """The model's state from one row of its sensors' values (:func:`recorded`,
-    :func:`current_row`) and the loads applied at that step (bushings without values in the
+    """The model's state from one row of its sensors' values (:func:`recorded`) and the
+    loads applied at that step (bushings without values in the
     row left out)."""
     springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
@@ -274,7 +278,8 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
-    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars)
+    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
+                      loads=row.get("loads"))
 
 
 def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],

@@ -228,7 +228,7 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         m0, m1 = obj["markerNumbers"]
         length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
         data[key] = law(length, obj)[:, None]
-    rest = [k for k in model.sensors if k not in data
+    rest = [k for k in model.sensors if k not in data and not k.startswith("load:")
             and (bushings or not k.startswith("bushing:"))]
     if rest:
         current = exu.ConfigurationType.Current

@@ -88,16 +88,21 @@ def roll_moment_Nmm(vertical_force_left_N, vertical_force_right_N, contact_y_lef
              + _vec(contact_y_right_mm) * _vec(vertical_force_right_N))
 
 
-def roll_stiffness_Nmm_per_deg(roll_deg, moment_Nmm, window=None) -> float:
+def roll_stiffness_Nmm_per_deg(roll_deg, moment_Nmm, window=None, subject: str = "",
+                               where: str = "of roll angle", remedy: str = "") -> float:
     """Total roll stiffness of the axle [N*mm/deg]: slope of the roll moment
     (:func:`roll_moment_Nmm`) against the roll angle (:func:`roll_angle_deg`) over
     ``window`` (deg), springs, anti-roll bar and bushings together, tyres excluded (the rig
-    moves the contact points)."""
-    return slope(roll_deg, moment_Nmm, window)
+    moves the contact points). ``subject`` starts the warning of a slope not determined
+    (NaN: fewer than three distinct roll angles, :func:`elastokin.physics.wheel.slope`)."""
+    return slope(roll_deg, moment_Nmm, window, what=f"{subject}roll stiffness",
+                 where=where, remedy=remedy)
 
 
 def antiroll_bar_roll_stiffness_Nmm_per_deg(roll_deg, bar_twist_deg, bar_torque_Nmm,
-                                            window=None) -> float:
+                                            window=None, subject: str = "",
+                                            where: str = "of roll angle",
+                                            remedy: str = "") -> float:
     """The anti-roll bar's part of the roll stiffness [N*mm/deg], from its torsion.
 
     By virtual work the bar's torque ``T`` (about its twist, ``bar_torque_Nmm``) holds the
@@ -105,27 +110,32 @@ def antiroll_bar_roll_stiffness_Nmm_per_deg(roll_deg, bar_twist_deg, bar_torque_
     the least-squares slope over ``window`` this is ``dtheta/dphi * dT/dphi``. Its share of
     the total is this divided by :func:`roll_stiffness_Nmm_per_deg` (bar and springs act in
     parallel)."""
-    return slope(roll_deg, bar_twist_deg, window) * slope(roll_deg, bar_torque_Nmm, window)
+    what = f"{subject}anti-roll bar roll stiffness"
+    return (slope(roll_deg, bar_twist_deg, window, what=what, where=where, remedy=remedy)
+            * slope(roll_deg, bar_torque_Nmm, window, what=what, where=where, remedy=remedy))
 
 
 def roll_coefficients(roll_deg, toe_left_deg, toe_right_deg, camber_left_deg,
-                      camber_right_deg, window=None) -> dict[str, float]:
+                      camber_right_deg, window=None, subject: str = "",
+                      where: str = "of roll angle", remedy: str = "") -> dict[str, float]:
     """Roll steer and roll camber [deg/deg] from an opposite-travel sweep.
 
     ``roll_steer_{side}_deg_per_deg``: slope of the wheel's toe (toe-in +) against the roll
     angle; ``roll_camber_{side}_deg_per_deg``: slope of its camber (top outboard +, relative
     to the body); ``axle_roll_steer_deg_per_deg``: slope of the mean steer angle (ADAMS/Car's
     steer, + to the left: ``(-toe_left + toe_right) / 2``), positive when the axle steers
-    into the turn."""
+    into the turn. NaN where the roll angles are too few (:func:`roll_stiffness_Nmm_per_deg`)."""
     toe = {"left": _vec(toe_left_deg), "right": _vec(toe_right_deg)}
     camber = {"left": _vec(camber_left_deg), "right": _vec(camber_right_deg)}
-    out = {}
-    for side in SIDES:
-        out[f"roll_steer_{side}_deg_per_deg"] = slope(roll_deg, toe[side], window)
-        out[f"roll_camber_{side}_deg_per_deg"] = slope(roll_deg, camber[side], window)
     mean_steer = 0.5 * (-toe["left"] + toe["right"])
-    out["axle_roll_steer_deg_per_deg"] = slope(roll_deg, mean_steer, window)
-    return out
+    curves = {f"roll_steer_{side}_deg_per_deg": toe[side] for side in SIDES}
+    curves.update({f"roll_camber_{side}_deg_per_deg": camber[side] for side in SIDES})
+    curves["axle_roll_steer_deg_per_deg"] = mean_steer
+    order = ("roll_steer_left_deg_per_deg", "roll_camber_left_deg_per_deg",
+             "roll_steer_right_deg_per_deg", "roll_camber_right_deg_per_deg",
+             "axle_roll_steer_deg_per_deg")
+    return {name: slope(roll_deg, curves[name], window, what=f"{subject}{name}",
+                        where=where, remedy=remedy) for name in order}
 
 
 def ride_rate_N_per_mm(wheel_rate_N_per_mm, tyre_rate_N_per_mm) -> np.ndarray:

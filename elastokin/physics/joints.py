@@ -14,4 +14,8 @@ CONSTRAINED = {
     "translational": (1, 1, 0, 1, 1, 1),
     "rack": (1, 1, 1, 1, 1, 1),
     "universal": (1, 1, 1, 0, 0, 1),
+    # the plane normal to the axis slides and turns in the other part's plane (3 constraints)
+    "planar": (0, 0, 1, 1, 1, 0),
+    # a point of one part kept in a plane of the other (1 constraint: ADAMS's inplane)
+    "inplane": (0, 0, 1, 0, 0, 0),
 }

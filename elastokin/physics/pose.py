@@ -35,16 +35,38 @@ def fit_pose(local_pts, global_pts) -> tuple[np.ndarray, np.ndarray, float]:
     q = np.asarray(global_pts, float)
     if p.shape != q.shape or p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 3:
         raise MeasurementError(f"a pose needs >= 3 matching points, got {p.shape} and {q.shape}")
-    pc, qc = p.mean(axis=0), q.mean(axis=0)
-    sv = np.linalg.svd(p - pc, compute_uv=False)
+    sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
     if sv[1] < 1e-6 * max(sv[0], 1e-12):
         raise MeasurementError("the marks are collinear: a pose is undefined")
-    u, _, vt = np.linalg.svd((p - pc).T @ (q - qc))
-    d = np.sign(np.linalg.det(vt.T @ u.T))
-    R = vt.T @ np.diag([1.0, 1.0, d]) @ u.T  # reflection guard: det R = +1
-    t = qc - R @ pc
-    residual = q - (p @ R.T + t)
-    return R, t, float(np.sqrt(np.mean(np.sum(residual**2, axis=1))))
+    R, t, rms = fit_poses(p, q)
+    return R, t, float(rms)
+
+
+def fit_poses(local_pts, global_pts, weights=None) -> tuple[np.ndarray, np.ndarray,
+                                                              np.ndarray]:
+    """:func:`fit_pose` for stacks of point sets: ``local_pts`` and ``global_pts`` of shape
+    (..., n, 3) (``local_pts`` may lack the leading dimensions: one template for every set),
+    ``weights`` (..., n) with 0 for a point left out (its coordinates may then be NaN).
+    Returns R (..., 3, 3), t (..., 3) and the residual RMS over the points kept (mm); no
+    check of the layout (see :func:`fit_pose`)."""
+    q = np.asarray(global_pts, float)
+    p = np.broadcast_to(np.asarray(local_pts, float), q.shape)
+    w = np.ones(q.shape[:-1]) if weights is None else np.asarray(weights, float)
+    keep = w[..., None] > 0
+    p, q = np.where(keep, p, 0.0), np.where(keep, q, 0.0)
+    n = w.sum(axis=-1)[..., None]
+    pc = np.einsum("...k,...ki->...i", w, p) / n
+    qc = np.einsum("...k,...ki->...i", w, q) / n
+    u, _, vt = np.linalg.svd(np.einsum("...k,...ki,...kj->...ij", w, p - pc[..., None, :],
+                                       q - qc[..., None, :]))
+    v = np.swapaxes(vt, -1, -2)
+    d = np.sign(np.linalg.det(v @ np.swapaxes(u, -1, -2)))
+    v[..., :, 2] *= d[..., None]  # reflection guard: det R = +1
+    R = v @ np.swapaxes(u, -1, -2)
+    t = qc - np.einsum("...ij,...j->...i", R, pc)
+    residual = q - (np.einsum("...ij,...kj->...ki", R, p) + t[..., None, :])
+    rms = np.sqrt(np.einsum("...k,...ki,...ki->...", w, residual, residual) / n[..., 0])
+    return R, t, rms
 
 
 def pose_error_gain(marks, points, step_mm: float = 1e-3) -> float:
@@ -86,7 +108,9 @@ class MarkMatch:
 
     order[i]: index of the measured point matching local mark i (None for a dropped mark);
     dropped_mark: the local mark left out (None when all 4 matched);
-    R, t: part pose, local -> measurement frame; residual_rms_mm: fit residual.
+    R, t: part pose, local -> measurement frame; residual_rms_mm: fit residual;
+    local_mm: the 4 local marks (part frame); measured_mm: the assembled point matched to each
+    (measurement frame; NaN for the dropped mark).
     """
 
     order: list[int | None]
@@ -95,6 +119,8 @@ class MarkMatch:
     t: np.ndarray
     residual_rms_mm: float
     warnings: list[str] = field(default_factory=list)
+    local_mm: np.ndarray | None = None
+    measured_mm: np.ndarray | None = None
 
 
 def _passing(local: np.ndarray, measured: np.ndarray, marks: tuple[int, ...], eps: float):
@@ -163,7 +189,8 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
         order[m] = int(k)
     if rms > eps_mm:
         warnings.append(f"part '{part}': pose residual {rms:.3f} mm exceeds eps {eps_mm:g} mm")
-    return MarkMatch(order, dropped, R, t, rms, warnings)
+    matched = np.array([q[k] if k is not None else np.full(3, np.nan) for k in order])
+    return MarkMatch(order, dropped, R, t, rms, warnings, local, matched)
 
 
 def zero_torsion_frame(housing_axis, v2_in_part1) -> np.ndarray:

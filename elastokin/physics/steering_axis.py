@@ -14,31 +14,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from elastokin.physics.skeleton import (
+    LENGTH_SCALE,
+    SkeletonElement,
+    SkeletonSteps,
+    constraint_rows,
+    cross_rows,
+)
+
 __all__ = ["SkeletonElement", "SteeringAxes", "SteeringSkeleton", "eliminate_links",
            "steering_axes", "steering_axes_from_poses"]
 
-#: length (mm) scaling the rotational unknowns so that the Jacobian's columns are comparable
-_L = 1000.0
 #: relative singular-value threshold for the rank of the constraint Jacobian
 RANK_TOLERANCE = 1e-9
 #: the wheel part's twists must span one direction: second singular value below this (relative)
 ONE_DOF_TOLERANCE = 1e-6
-
-
-@dataclass(frozen=True)
-class SkeletonElement:
-    """One constraint of the skeleton at the design position."""
-
-    kind: str  # "joint" (flags in a frame) or "distance"
-    parts: tuple[str, str]
-    points: tuple[np.ndarray, np.ndarray]  # marker on each part, design position, mm
-    frame: np.ndarray | None = None  # joint frame (columns), fixed to parts[0]
-    flags: tuple[int, ...] = ()  # constrained tx ty tz rx ry rz in that frame
-    released: bool = False  # the steering input: not a constraint, its rate must not vanish
-    #: a distance kept by an eliminated two-ball-joint part: each end's point as (the part
-    #: that carries it, design position), when it is not ``(parts[k], points[k])``
-    anchors: tuple[tuple[str, np.ndarray], tuple[str, np.ndarray]] | None = None
-    spring: bool = False  # a coil spring's length, locked: the travel is held
 
 
 @dataclass(frozen=True)
@@ -107,19 +97,6 @@ def _nan_axes(n: int, reason: str) -> SteeringAxes:
                         reason)
 
 
-def _tait_bryan_dual(Rrel: np.ndarray) -> np.ndarray:
-    """Rows k: the vectors w_k (marker-0 frame) with d(angle_k)/dt = w_k . omega_rel for the
-    Tait-Bryan x-y-z angles of ``Rrel`` (S, 3, 3) = Rx(a) Ry(b) Rz(c)."""
-    a = np.arctan2(-Rrel[:, 1, 2], Rrel[:, 2, 2])
-    b = np.arcsin(np.clip(Rrel[:, 0, 2], -1.0, 1.0))
-    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
-    G = np.zeros(Rrel.shape)
-    G[:, 0, 0] = 1.0
-    G[:, :, 1] = np.stack([np.zeros_like(a), ca, sa], axis=-1)
-    G[:, :, 2] = np.stack([sb, -sa * cb, ca * cb], axis=-1)
-    return np.linalg.inv(G)
-
-
 def _null_spaces(A: np.ndarray):
     """Orthonormal null-space bases of the stacked matrices ``A`` (S, m, N): yields
     ``(step indices, basis (s, N, nullity))`` per group of steps with the same nullity.
@@ -146,96 +123,6 @@ def _null_spaces(A: np.ndarray):
             yield todo[sel], np.swapaxes(Vt[sel][:, r:, :], 1, 2)
 
 
-def _cross(a, b):
-    """Row-wise cross product of (S, 3) arrays (cheaper than np.cross for small stacks)."""
-    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
-                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=-1)
-
-
-@dataclass(frozen=True)
-class _Steps:
-    """The part poses at ``n`` steps and the layout of the unknowns: 6 columns per moving part
-    from ``col[part]`` on (its angular velocity times ``_L``, then the velocity of the point
-    where its reference point now is), ``N`` in all; the ground part has none."""
-
-    skeleton: SteeringSkeleton
-    rotation: dict[str, np.ndarray]
-    position: dict[str, np.ndarray]
-    reference: dict[str, np.ndarray]
-    n: int
-    col: dict[str, int]
-    N: int
-    eye: np.ndarray  # (n, 3, 3) identity: the ground part's rotation
-
-    def pose(self, part):
-        if part == self.skeleton.ground:
-            return self.eye, None
-        return self.rotation[part], self.position[part]
-
-    def moved(self, part, p):
-        R, c = self.pose(part)
-        if c is None:
-            return np.broadcast_to(p, (self.n, 3))
-        return np.einsum("sij,j->si", R, p - self.reference[part]) + c
-
-    def translation_row(self, parts, q, a) -> np.ndarray:
-        """a . (v1(q[1]) - v0(q[0])) = 0: a (S, 3) unit, v0 / v1 the velocities of parts[0] /
-        parts[1] at the points q (S, 3)."""
-        row = np.zeros((self.n, self.N))
-        for sign, part, qk in ((-1.0, parts[0], q[0]), (1.0, parts[1], q[1])):
-            if part == self.skeleton.ground:
-                continue
-            r = qk - self.position[part]
-            k = self.col[part]
-            row[:, k:k + 3] += sign * _cross(r, a) / _L
-            row[:, k + 3:k + 6] += sign * a
-        return row
-
-    def rotation_row(self, parts, w) -> np.ndarray:
-        row = np.zeros((self.n, self.N))
-        for sign, part in ((-1.0, parts[0]), (1.0, parts[1])):
-            if part != self.skeleton.ground:
-                row[:, self.col[part]:self.col[part] + 3] += sign * w / _L
-        return row
-
-
-def _constraint_rows(steps: _Steps) -> tuple[list[np.ndarray], list[np.ndarray], list[bool]]:
-    """The skeleton's velocity constraints at every step, (S, N) rows: those of the
-    constraints, the rates of the released steering input, and which constraint rows lock a
-    spring's length."""
-    rows: list[np.ndarray] = []  # the constraints
-    steer: list[np.ndarray] = []  # the released steering input's rates
-    springs: list[bool] = []
-    for e in steps.skeleton.elements:
-        target = steer if e.released else rows
-        before = len(rows)
-        if e.kind == "distance":  # d|q1 - q0|/dt = 0, each end moving with its part
-            ends = e.anchors or ((e.parts[0], e.points[0]), (e.parts[1], e.points[1]))
-            q = (steps.moved(*ends[0]), steps.moved(*ends[1]))
-            d = q[1] - q[0]
-            target.append(steps.translation_row(
-                e.parts, q, d / np.linalg.norm(d, axis=-1, keepdims=True)))
-            springs += [e.spring] * (len(rows) - before)
-            continue
-        # joint: d/dt [F0^T (q1 - q0)] = F0^T (v1(q1) - v0(q1)) in the constrained directions
-        # (the joint's offset, e.g. a strut's slide or a bushing's deflection, is held in the
-        # frame of part 0, as Exudyn's generic joint does): both velocities at q1
-        q1 = steps.moved(e.parts[1], e.points[1])
-        F0 = steps.pose(e.parts[0])[0] @ e.frame  # (S, 3, 3) joint frame on part 0, columns = axes
-        for i in range(3):
-            if e.flags[i]:
-                target.append(steps.translation_row(e.parts, (q1, q1), F0[:, :, i]))
-        if any(e.flags[3:]):
-            F1 = steps.pose(e.parts[1])[0] @ e.frame
-            dual = _tait_bryan_dual(np.swapaxes(F0, 1, 2) @ F1)
-            for i in range(3):
-                if e.flags[3 + i]:
-                    target.append(steps.rotation_row(
-                        e.parts, np.einsum("sij,sj->si", F0, dual[:, i, :])))
-        springs += [False] * (len(rows) - before)
-    return rows, steer, springs
-
-
 def _idle_locks(A: np.ndarray, springs: np.ndarray, k: int) -> list[tuple[np.ndarray,
                                                                           np.ndarray]]:
     """Per group of steps, rows that lock the idle motions: those the joints allow with the
@@ -251,10 +138,10 @@ def _idle_locks(A: np.ndarray, springs: np.ndarray, k: int) -> list[tuple[np.nda
 
 
 def _wheel_twists(A: np.ndarray, E: np.ndarray, k: int, n: int) -> tuple[np.ndarray, str | None]:
-    """The wheel part's twist per step (its columns ``k:k+6``, i.e. ``(omega * _L, v)``, of
-    unit norm) from the constraint rows ``A`` (S, m, N) and the steering rates ``E`` (S, r, N):
-    NaN rows, and the first reason, where the wheel part does not keep exactly one motion
-    that moves the steering input."""
+    """The wheel part's twist per step (its columns ``k:k+6``, i.e. ``(omega *
+    LENGTH_SCALE, v)``, of unit norm) from the constraint rows ``A`` (S, m, N) and the
+    steering rates ``E`` (S, r, N): NaN rows, and the first reason, where the wheel part does
+    not keep exactly one motion that moves the steering input."""
     twist = np.full((n, 6), np.nan)
     bad: str | None = None
     for idx, null in _null_spaces(A):
@@ -288,9 +175,9 @@ def _screw_axes(twist: np.ndarray, bad: str | None, position: dict[str, np.ndarr
     """The screw axis of the wheel part's ``twist`` (S, 6) per step: direction pointing up,
     the point closest to ``wheel_centre``, the pitch; ``bad`` (or a pure translation) is the
     reason."""
-    omega, v = twist[:, :3] / _L, twist[:, 3:]
+    omega, v = twist[:, :3] / LENGTH_SCALE, twist[:, 3:]
     w2 = np.sum(omega * omega, axis=-1)
-    translation = w2 < (ONE_DOF_TOLERANCE / _L) ** 2
+    translation = w2 < (ONE_DOF_TOLERANCE / LENGTH_SCALE) ** 2
     if np.any(translation):
         bad = bad or "the steering motion is a pure translation (no axis)"
         w2 = np.where(translation, np.nan, w2)
@@ -298,7 +185,7 @@ def _screw_axes(twist: np.ndarray, bad: str | None, position: dict[str, np.ndarr
     direction = omega / np.sqrt(w2)[:, None]
     flip = np.where(direction[:, 2:3] < 0, -1.0, 1.0)  # config z is up
     direction = direction * flip
-    point = c + _cross(omega, v) / w2[:, None]
+    point = c + cross_rows(omega, v) / w2[:, None]
     point = point + np.sum((wheel_centre - point) * direction, axis=-1)[:, None] * direction
     pitch = np.sum(omega * v, axis=-1) / w2
     return SteeringAxes(direction, point, pitch, bad)
@@ -319,9 +206,9 @@ def steering_axes(skeleton: SteeringSkeleton, rotation: dict[str, np.ndarray],
         return _nan_axes(n, skeleton.reason)
     parts = sorted(p for p in rotation if p not in skeleton.eliminated)
     col = {p: 6 * i for i, p in enumerate(parts)}
-    steps = _Steps(skeleton, rotation, position, reference, n, col, 6 * len(parts),
-                   np.broadcast_to(np.eye(3), (n, 3, 3)))
-    rows, steer, springs = _constraint_rows(steps)
+    steps = SkeletonSteps(skeleton.ground, rotation, position, reference, n, col,
+                          6 * len(parts), np.broadcast_to(np.eye(3), (n, 3, 3)))
+    rows, steer, springs = constraint_rows(steps, skeleton.elements)
     A = np.stack(rows, axis=1)  # (S, m, N)
     E = np.stack(steer, axis=1)  # (S, r, N)
     k = col[skeleton.wheel_part]

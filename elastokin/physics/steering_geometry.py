@@ -286,18 +286,15 @@ def track_change_mm(contact, contact0, outboard) -> np.ndarray:
 
 def gradient(x, y, window=None, scale: float = 1.0) -> float:
     """Least-squares slope ``scale * dy/dx`` over the points with ``window[0] <= x <=
-    window[1]`` (all points if ``window`` is None).
+    window[1]`` (all points if ``window`` is None); NaN, with an
+    :class:`~elastokin.physics.wheel.UndeterminedSlopeWarning`, with fewer than three distinct
+    x values there (:func:`elastokin.physics.wheel.slope`).
 
     Loading and unloading branches inside the window are fitted together (the slope of their
     mean). ``scale`` converts units: bump steer deg/m from toe [deg] against travel [mm] and
     compliance steer deg/kN from toe against force [N] both take ``scale=1000``.
     """
-    try:
-        return scale * slope(x, y, window)
-    except ValueError:
-        where = "" if window is None else f" within {window[0]:g} <= x <= {window[1]:g}"
-        raise ValueError(f"need at least two distinct x values{where} to fit a gradient") \
-            from None
+    return scale * slope(x, y, window, what="gradient")
 
 
 def compliance_matrix(f: Callable[[np.ndarray], np.ndarray], steps, load0=None) -> np.ndarray:

@@ -26,6 +26,7 @@ from elastokin.report.chart_canvas import (
     STYLE,
     ChartCanvas,
     corner_counts,
+    floor_y_span,
     footer_text,
     legend_height,
     residual_rms,
@@ -106,6 +107,13 @@ AXLE_CHART_LIST = (
     AxleChartSpec("roll_centre_height_vs_travel", "parallel_travel", "wheel_travel_mm",
                   "roll_centre_height_mm",
                   "Roll centre height (kinematic) vs parallel wheel travel", False,
+                  (LegendFigure("roll_centre_height_mm", "kinematic at static", "mm", ".1f"),
+                   LegendFigure("roll_centre_height_force_based_mm", "force-based", "mm",
+                                ".1f"))),
+    # an axle joined by a flexible beam (a twist beam): the kinematic roll centre in roll
+    AxleChartSpec("roll_centre_height_vs_opposite_travel", "opposite_travel",
+                  "wheel_travel_mm", "roll_centre_height_mm",
+                  "Roll centre height (kinematic, in roll) vs opposite wheel travel", False,
                   (LegendFigure("roll_centre_height_mm", "kinematic at static", "mm", ".1f"),
                    LegendFigure("roll_centre_height_force_based_mm", "force-based", "mm",
                                 ".1f"))),
@@ -335,6 +343,7 @@ def draw_axle_chart(canvas: ChartCanvas, data: AxleChartData, provenance: dict):
     curves = [_draw_panel(ax, panel) for ax, panel in zip(axes, data.panels)]
     for ax in axes:
         ax.set_xlabel(data.xlabel, fontsize=9)
+    floor_y_span(ax0)  # the panels share it
     _place_legends(axes, data, curves, 7 if pair else 8)
     ax0.set_ylabel(data.ylabel, fontsize=9)
     if pair:
@@ -361,8 +370,14 @@ def axle_chart_caption(spec: AxleChartSpec, with_test: bool, with_ideal: bool) -
         text += ", the least-squares slope of this curve"
     if spec.name == "roll_centre_height_vs_travel":
         text += ("; the curve is the kinematic roll centre (instant centres of both wheels in "
-                 "the front view), the force-based one (12x12 compliance) is a figure of the "
-                 "static state only")
+                 "the front view; on a solid axle, of the axle's roll motion), the force-based "
+                 "one (12x12 compliance) is a figure of the static state only")
+    if spec.name == "roll_centre_height_vs_opposite_travel":
+        text += ("; an axle joined by a flexible beam (a twist beam) moves in roll otherwise "
+                 "than in bump, as the beam's elasticity sets it, so its kinematic roll centre "
+                 "comes from both wheels' motion in opposite wheel travel (x: the config side's "
+                 "wheel travel; the other wheel's is opposite); the force-based one (12x12 "
+                 "compliance) is a figure of the static state only")
     if spec.ideal_ackermann:
         text += (f"; dash-dot: {IDEAL_LABEL}, the steer angle that would put "
                  "both spindle lines through one point of the rear axle's line (wheelbase "

@@ -14,6 +14,7 @@ STYLE = {
     "test": {"color": "black", "linestyle": "-", "linewidth": 2.0},
     "initial": {"color": "tab:blue", "linestyle": "-"},
     "identified": {"color": "tab:red", "linestyle": "-"},
+    "identified_motion": {"color": "tab:purple", "linestyle": "-."},
     "initial_kinematic": {"color": "tab:blue", "linestyle": ":"},
     "identified_kinematic": {"color": "tab:red", "linestyle": ":"},
     "identified_stiffness": {"color": "tab:green", "linestyle": "--"},
@@ -33,7 +34,9 @@ LAYOUTS = {1: ((7.0, 5.6), {"left": 0.155, "right": 0.975, "bottom": 0.11, "top"
            2: ((7.0, 6.6), {"left": 0.155, "right": 0.975, "bottom": 0.1, "top": 0.945,
                             "hspace": 0.07, "height_ratios": (3, 1)}),
            "pair": ((7.0, 5.0), {"left": 0.115, "right": 0.98, "bottom": 0.125, "top": 0.875,
-                                 "wspace": 0.04})}
+                                 "wspace": 0.04}),
+           # horizontal bars with long labels (the loads chart sets its height per bar)
+           "bars": ((7.0, 8.0), {"left": 0.34, "right": 0.97, "bottom": 0.08, "top": 0.95})}
 #: x position of the y labels (axes fraction): fixed, so that stacked panels align without
 #: measuring their tick labels; the pair's narrower panels need more
 YLABEL_X = -0.115
@@ -80,7 +83,7 @@ class ChartCanvas:
         for a in (ax, axr):
             if a is None:
                 continue
-            for artist in [*a.lines, *a.texts, *a.collections]:
+            for artist in [*a.lines, *a.texts, *a.collections, *a.patches]:
                 artist.remove()
             if a.get_legend() is not None:
                 a.get_legend().remove()
@@ -98,7 +101,7 @@ class ChartCanvas:
         fig = Figure(figsize=size, dpi=DPI)
         FigureCanvasAgg(fig)
         kw = dict(margins)
-        if panels == 1:
+        if panels in (1, "bars"):
             fig.subplots_adjust(**kw)
             axes = (fig.add_subplot(), None)
         elif panels == 2:
@@ -137,6 +140,19 @@ def corner_counts(ax, curves: list[tuple[np.ndarray, np.ndarray]], entries: int,
                                       & (v >= bottom) & (v <= bottom + height)))
         counts[corner] = n
     return counts
+
+
+#: the smallest y range a chart shows (its display unit): a quantity that does not change
+#: (the toe of an axle that cannot steer) is drawn flat, not as solver noise of 1e-16
+MIN_Y_SPAN = 1e-4
+
+
+def floor_y_span(ax, min_span: float = MIN_Y_SPAN) -> None:
+    """Widen ``ax``'s y range about its middle to ``min_span`` when it is narrower."""
+    y0, y1 = ax.get_ylim()
+    if y1 - y0 < min_span:
+        mid = 0.5 * (y0 + y1)
+        ax.set_ylim(mid - 0.5 * min_span, mid + 0.5 * min_span)
 
 
 def legend_height(entries: int) -> float:

@@ -19,9 +19,12 @@ import numpy as np
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
-from elastokin.report.text import identification_table
-from elastokin.rig.axle_channels import design_track_mm
+from elastokin.report.loads_csv import write_loads_csv
+from elastokin.report.text import identification_table, motion_table
+from elastokin.rig.axle_channels import dependent_axle, design_track_mm
 from elastokin.rig.channels import sign_conventions
+from elastokin.rig.drives import vehicle_load_table
+from elastokin.rig.loads import load_summary
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
 
@@ -90,13 +93,16 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
             entry["reference"] = r.model_dump(exclude_none=True)
         bushings[name] = entry
     s = run.suspension
+    models = run.summaries()  # before the warnings: a figure not determined adds one
+    for label, figures in models.items():  # and every element's loads (none: the test)
+        figures.update(load_summary(run.models[label].sweeps))
     return {
         **config_provenance(s),
         "config_name": s.name,
         "input_files": input_files(run),
         "test_data_synthetic": s.kc_test is not None and s.kc_test.synthetic is not None,
         "solver": {label: m.solver for label, m in run.models.items()},
-        "models": {label: m.summary() for label, m in run.models.items()},
+        "models": models,
         "errors": run.errors,
         "static": {
             "wheel_load_N": st.wheel_load_N,
@@ -117,7 +123,10 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         "reused_from_cache": run.reused,
         **({"stiffness_identification": stiffness_summary(run.stiffness)}
            if run.stiffness is not None else {}),
+        **({"motion_identification": motion_summary(run.motion)}
+           if run.motion is not None else {}),
         **({"axle": axle_data(s)} if s.axle is not None else {}),
+        **({"vehicle_loads": vehicle_load_table(s)} if s.rig.vehicle_loads else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
     }
@@ -126,12 +135,14 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
 def axle_data(s) -> dict:
     """summary.json ``axle``: the axle's make-up and vehicle data (the figures are per model,
     ``models.<label>.axle``): its sides (the config's first), the design track at the contact
-    points [mm], shared parts, steering and anti-roll bar present, and the config's
-    ``axle.vehicle`` (None without)."""
+    points [mm], shared parts, whether the wheels are dependent (a solid axle: the
+    kinematic roll centre is then the instant centre of the axle's roll motion), steering and
+    anti-roll bar present, and the config's ``axle.vehicle`` (None without)."""
     v = s.axle.vehicle
     return {"sides": list(s.axle.sides), "config_side": s.side,
             "track_mm": design_track_mm(s),
             "shared_parts": list(s.axle.shared),
+            "dependent": dependent_axle(s),
             "steering": s.axle.steering is not None,
             "anti_roll_bar": s.axle.anti_roll_bar is not None,
             "vehicle": v.model_dump() if v is not None else None,
@@ -158,6 +169,11 @@ def input_files(run: KCRun) -> list[dict]:
     if run.identification is not None:
         for part, f in run.identification.sources.items():
             role = "CMM, assembled marks" if part == "assembly" else f"CMM, part {part}"
+            out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
+    if run.motion is not None:
+        for position, f in run.motion.sources.items():
+            role = ("CMM, ground marks" if position == "ground"
+                    else f"CMM, motion position {position}")
             out.append({"role": role, "file": str(f), "sha256": _sha256(f)})
     return out
 
@@ -206,6 +222,52 @@ def write_identification(folder: Path, ident, prov: dict) -> dict:
     return doc
 
 
+def motion_dict(motion, prov: dict, ident: dict | None = None) -> dict:
+    """``motion_identification.json``: the joints located from the motion (with provenance)
+    and, when the run also identified the geometry from the parts measured alone
+    (``ident``, ``identification.json``'s content), that method's error against the truth
+    beside each joint's. Vehicle (config) frame at the design position, mm, deg."""
+    body = motion.to_json()
+    for name, j in body["joints"].items():
+        other = (ident or {}).get("joints", {}).get(name)
+        j["disassembly_error_vs_truth_mm"] = None if other is None else \
+            other.get("error_vs_truth_mm")
+    return {**prov, **body, "conventions": {
+        "located_mm": "joint centre from the parts' motion at the design position (an axis "
+                      "joint: the axis point nearest the config's hardpoint; null: only the "
+                      "axis is located, e.g. a bushing)",
+        "uncertainty_mm": "1-sigma 3-D RMS from the CMM noise (noise_sigma_mm, first-order "
+                          "propagation); worst_std_mm along the worst direction",
+        "residual_rms_mm": "RMS distance between the two bodies' points over the positions",
+        "error_vs_truth_mm": "against the synthetic truth; an axis joint's across the true "
+                             "axis",
+        "methods": "SCoRE: Ehrig et al. 2006, J. Biomech. 39:2798; SARA: Ehrig et al. 2007, "
+                   "J. Biomech. 40:2150"}}
+
+
+def motion_summary(motion) -> dict:
+    """The joints from motion in ``summary.json`` (details in motion_identification.json)."""
+    return {"file": "motion_identification.json",
+            "noise_sigma_mm": motion.noise_sigma_mm,
+            "joints": {n: {"located_mm": None if not j.plan.locates_point
+                           else [float(x) for x in j.point_mm],
+                           "uncertainty_mm": j.uncertainty_mm if j.plan.locates_point
+                           else None,
+                           "axis_uncertainty_deg": j.axis_uncertainty_deg,
+                           "error_vs_truth_mm": j.error_vs_truth_mm,
+                           "axis_error_deg": j.axis_error_deg}
+                       for n, j in motion.joints.items()}}
+
+
+def write_motion_identification(folder: Path, motion, prov: dict, ident: dict | None = None
+                                ) -> dict:
+    """motion_identification.json and .txt; returns the JSON's content."""
+    doc = motion_dict(motion, prov, ident)
+    (folder / "motion_identification.json").write_text(json.dumps(doc, indent=2) + "\n")
+    (folder / "motion_identification.txt").write_text(motion_table(doc))
+    return doc
+
+
 def stiffness_summary(fit) -> dict:
     """The stiffness identification in ``summary.json`` (details in
     ``stiffness_identification.json``)."""
@@ -239,29 +301,43 @@ def write_config(path: Path, config: dict, header: str) -> None:
 
 def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
-    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
+    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json, report.html and,
+    when loads were recorded, loads.csv and the largest loads' chart (listed last).
     Returns the summary."""
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
+    from elastokin.report.load_charts import LOAD_CHART, load_chart_data
+    from elastokin.report.view3d import run_views, view_fragment
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
               for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
     write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
+    loads = ["loads.csv"] if write_loads_csv(folder / "loads.csv", run.models, prov) else []
     ident = None
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
         files += ["identification.json", "identification.txt"]
+    motion = None
+    if run.motion is not None:
+        motion = write_motion_identification(folder, run.motion, prov, ident)
+        files += ["motion_identification.json", "motion_identification.txt"]
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
-    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary))
-    files += [p.name for p in charts] + ["report.html"]
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary),
+                       load_chart_data(summary))
+    load_chart = [p.name for p in charts if p.stem == LOAD_CHART]
+    files += [p.name for p in charts if p.stem != LOAD_CHART] + ["report.html"]
+    files += loads + load_chart
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts, ident)
+    views, overlay = run_views(run)
+    view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
+        if views else None
+    write_report(folder / "report.html", summary, charts, ident, motion, view)
     return summary
 
 
@@ -286,6 +362,28 @@ def written_config(config: dict, suspension, label: str, folder: Path,
     return out
 
 
+def _header(s, config_path: Path) -> str:
+    prov = config_provenance(s)
+    return (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
+            f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
+            "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+
+
+def _stiffness_files(folder: Path, start_config: dict, s, fit, where: Path,
+                     header: str) -> list[str]:
+    """identified_stiffness.yaml (the start model with the fitted laws) and the fit's
+    files."""
+    from elastokin.identification.stiffness_results import stiffness_config
+
+    write_config(folder / "identified_stiffness.yaml",
+                 written_config(stiffness_config(start_config, fit), s,
+                                "identified_stiffness", where, fit_again=False),
+                 header.format(what="identified model with the bushing laws fitted to the "
+                               "K&C test data"))
+    return ["identified_stiffness.yaml",
+            *write_stiffness_identification(folder, fit, config_provenance(s))]
+
+
 def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                  final_folder: Path | None = None) -> list[str]:
     """``elastokin identify``'s files: identified.yaml and initial.yaml (configs that
@@ -293,14 +391,9 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
     stiffness ``fit``, identified_stiffness.yaml and stiffness_identification.json / .txt.
     ``final_folder``: where the files end up (the configs' paths are relative to it; default
     ``folder``). Returns the names."""
-    from elastokin.identification.stiffness_results import stiffness_config
-
     s = ident.suspension
     where = final_folder or folder
-    prov = config_provenance(s)
-    header = (f"elastokin {prov['elastokin_version']} (exudyn {prov['exudyn_version']}): "
-              f"{{what}} of {config_path} (sha256 {prov['config_sha256'][:12]}).\nUnits: "
-              "lengths mm, forces N, torques N*mm, angles deg; config frame.")
+    header = _header(s, config_path)
     write_config(folder / "identified.yaml",
                  written_config(ident.identified_config, s, "identified", where),
                  header.format(what="identified model (joints from the assembled "
@@ -309,16 +402,34 @@ def write_identification_results(folder: Path, ident, fit, config_path: Path,
                                                          where, fit_again=False),
                  header.format(what="initial model (joints from the parts measured alone, "
                                "undeflected bushings)"))
-    write_identification(folder, ident, prov)
+    write_identification(folder, ident, config_provenance(s))
     files = ["identified.yaml", "initial.yaml", "identification.json", "identification.txt"]
     if fit is not None:
-        write_config(folder / "identified_stiffness.yaml",
-                     written_config(stiffness_config(ident.identified_config, fit), s,
-                                    "identified_stiffness", where, fit_again=False),
-                     header.format(what="identified model with the bushing laws fitted to "
-                                   "the K&C test data"))
-        files += ["identified_stiffness.yaml",
-                  *write_stiffness_identification(folder, fit, prov)]
+        files += _stiffness_files(folder, ident.identified_config, s, fit, where, header)
+    return files
+
+
+def write_motion_results(folder: Path, motion, fit, config_path: Path,
+                         final_folder: Path | None = None, ident: dict | None = None
+                         ) -> list[str]:
+    """``elastokin identify``'s files of the joints from motion: identified_motion.yaml (a
+    config ``elastokin kc`` loads, model ``identified_motion``; the stiffness fit switched on
+    in it when no part measurements were identified, ``ident`` None) and
+    motion_identification.json / .txt; with a stiffness ``fit`` started from it,
+    identified_stiffness.yaml and the fit's files. Returns the names."""
+    s = motion.suspension
+    where = final_folder or folder
+    header = _header(s, config_path)
+    write_config(folder / "identified_motion.yaml",
+                 written_config(motion.config, s, "identified_motion", where,
+                                fit_again=ident is None),
+                 header.format(what="model identified from the parts' motion (joints from "
+                               "the marks at several rig positions, no disassembly)"))
+    write_motion_identification(folder, motion, config_provenance(s), ident)
+    files = ["identified_motion.yaml", "motion_identification.json",
+             "motion_identification.txt"]
+    if fit is not None:
+        files += _stiffness_files(folder, motion.config, s, fit, where, header)
     return files
 
 

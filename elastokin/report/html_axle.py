@@ -46,6 +46,9 @@ def make_up_rows(axle: dict) -> list[list[str]]:
             ["track at the contact points, design [mm]", num(axle.get("track_mm"), ".1f")],
             ["parts declared once (shared)", esc(", ".join(axle.get("shared_parts") or [])
                                                  or "none")],
+            ["wheel motion", "dependent (they move together: the kinematic roll centre is the "
+             "instant centre of the axle's roll motion)" if axle.get("dependent")
+             else "independent"],
             ["steering rack", "yes" if axle.get("steering") else "no (steering locked)"],
             ["anti-roll bar", "yes" if axle.get("anti_roll_bar") else "no"]]
     if not v:
@@ -57,7 +60,14 @@ def make_up_rows(axle: dict) -> list[list[str]]:
              ["centre-of-gravity height [mm]", num(v["cg_height_mm"], ".1f")],
              ["this axle's share of braking / drive [-]",
               f"{num(v['brake_fraction'], '.2f')} / {num(v['drive_fraction'], '.2f')}"],
-             ["brakes", esc(v["brakes"])]]
+             ["brakes", esc(v["brakes"])], ["drive", esc(v.get("drive", "outboard"))]]
+    if v.get("live_axle_ratio") is not None:
+        rows.append(["live axle: final drive ratio [-]", num(v["live_axle_ratio"], ".4g")
+                     + " (the pinion torque enters anti-squat and traction anti-lift)"])
+    masses = v.get("axle_mass_kg")
+    if masses:
+        rows.append(["masses the axles carry at rest, front / rear [kg] (static loads)",
+                     f"{num(masses['front'], '.1f')} / {num(masses['rear'], '.1f')}"])
     return rows
 
 

@@ -208,6 +208,45 @@ def doe_table(doc: dict, out_dir: Path) -> str:
     return "\n".join(lines)
 
 
+def motion_table(doc: dict) -> str:
+    """A readable summary of the joints located from the motion (``motion_identification.
+    json``'s content): per joint its method, location, uncertainty (1 sigma from the CMM
+    noise), fit residual and, on synthetic data, its error against the truth and the
+    disassembly method's."""
+    positions = doc["positions"]
+    out = [f"Joints from motion ({len(positions)} rig positions, design position "
+           f"'{doc['design_position']}'); units mm, deg; config frame at the design position",
+           f"  CMM noise from the pose fits: sigma {doc['noise_sigma_mm']:.4f} mm per "
+           f"coordinate ({doc['noise_dof']} degrees of freedom)",
+           "  uncertainty: 1-sigma 3-D RMS of the point (worst direction), from that noise; "
+           "residual: how far",
+           "  the two bodies' points part over the positions; error: against the synthetic "
+           "truth (an axis",
+           "  joint's across the true axis), beside the disassembly method's (the paper's) "
+           "when both ran",
+           f"  {'joint':<12}{'method':<20}{'x':>9}{'y':>9}{'z':>9}{'uncert.':>9}{'(worst)':>8}"
+           f"{'residual':>9}{'error':>8}{'disass.':>8}{'axis deg':>9}{'err deg':>8}"]
+
+    def f(v, fmt):
+        return "" if v is None else format(v, fmt)
+
+    for name, j in doc["joints"].items():
+        x = j["located_mm"] or [math.nan] * 3
+        cells = "" if j["located_mm"] is None else f"{x[0]:>9.2f}{x[1]:>9.2f}{x[2]:>9.2f}"
+        out.append(f"  {name:<12}{j['method']:<20}{cells:>27}{f(j['uncertainty_mm'], '.3f'):>9}"
+                   f"{f(j['worst_std_mm'], '.3f'):>8}{f(j['residual_rms_mm'], '.3f'):>9}"
+                   f"{f(j['error_vs_truth_mm'], '.3f'):>8}"
+                   f"{f(j.get('disassembly_error_vs_truth_mm'), '.3f'):>8}"
+                   f"{f(j['axis_uncertainty_deg'], '.3f'):>9}{f(j['axis_error_deg'], '.3f'):>8}")
+    if doc["dropped_marks"]:
+        out += ["", "Wrong marks dropped (poses fitted to the other three):"]
+        out += [f"  {d['body']} at position '{d['position']}': mark '{d['mark']}'"
+                for d in doc["dropped_marks"]]
+    if doc["warnings"]:
+        out += ["", "Warnings:"] + [f"  - {w}" for w in doc["warnings"]]
+    return "\n".join(out) + "\n"
+
+
 def design_table(result) -> str:
     """A design study's outcome: each variable's move, each target before and after, and
     what binds when the targets cannot all be met."""

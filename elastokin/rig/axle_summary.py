@@ -15,8 +15,9 @@ import numpy as np
 from elastokin.config.suspension import Suspension
 from elastokin.physics import ackermann, axle_compliance, axle_sweeps
 from elastokin.physics.instant_centres import force_based_roll_centre
+from elastokin.physics.wheel import slope
 from elastokin.rig.axle_channels import design_track_mm, iso_rotation
-from elastokin.rig.characteristics import measured
+from elastokin.rig.characteristics import determined, finer, measured
 from elastokin.rig.sweeps import Sweep, find_sweep, static_row_value
 
 #: steering ratio on centre: the local slope over this steering-wheel window (deg)
@@ -41,7 +42,8 @@ def axle_characteristics(sweeps: dict[str, list[Sweep]], summaries: dict[str, di
     first) or None."""
     s = suspension
     out: dict = {c: None for c in ("roll_centre_height_mm", "roll_centre_lateral_mm")}
-    travel = find_sweep(sweeps[s.side], "parallel_travel")
+    travel = find_sweep(sweeps[s.side], "opposite_travel" if s.shared_beams
+                        else "parallel_travel")  # in roll on a twist beam
     if travel is not None and "roll_centre_height_mm" in travel.columns:
         out["roll_centre_height_mm"] = static_row_value(travel, "roll_centre_height_mm")
         out["roll_centre_lateral_mm"] = static_row_value(travel, "roll_centre_lateral_mm")
@@ -53,7 +55,8 @@ def axle_characteristics(sweeps: dict[str, list[Sweep]], summaries: dict[str, di
         out[f"ride_rate_{side}_N_per_mm"] = (float(axle_sweeps.ride_rate_N_per_mm(rate, tyre))
                                              if rate and rate > 0 and tyre else None)
     out.update(_from_compliance(s, C))
-    return out
+    # not determined (a slope from too few points, a roll centre at infinity): null
+    return {k: determined(v) if isinstance(v, float) else v for k, v in out.items()}
 
 
 def _roll(sweeps: dict[str, list[Sweep]]) -> dict:
@@ -67,16 +70,18 @@ def _roll(sweeps: dict[str, list[Sweep]]) -> dict:
         return out
     left, right = roll["left"], roll["right"]
     phi = measured(left, "roll_angle_deg")
+    note = {"subject": f"model '{left.model}': ", "where": "of roll angle in the roll sweep",
+            "remedy": finer(left, "roll_vertical_force")}
     out["roll_stiffness_Nmm_per_deg"] = axle_sweeps.roll_stiffness_Nmm_per_deg(
-        phi, measured(left, "roll_moment_Nmm"))
+        phi, measured(left, "roll_moment_Nmm"), **note)
     if "arb_twist_deg" in left.columns:
         bar = axle_sweeps.antiroll_bar_roll_stiffness_Nmm_per_deg(
-            phi, measured(left, "arb_twist_deg"), measured(left, "arb_torque_Nmm"))
+            phi, measured(left, "arb_twist_deg"), measured(left, "arb_torque_Nmm"), **note)
         out["anti_roll_bar_roll_stiffness_Nmm_per_deg"] = bar
         out["anti_roll_bar_share"] = bar / out["roll_stiffness_Nmm_per_deg"]
     out.update(axle_sweeps.roll_coefficients(
         phi, measured(left, "toe_deg"), measured(right, "toe_deg"),
-        measured(left, "camber_deg"), measured(right, "camber_deg")))
+        measured(left, "camber_deg"), measured(right, "camber_deg"), **note))
     return out
 
 
@@ -92,10 +97,12 @@ def _steering(sweeps: dict[str, list[Sweep]], s: Suspension) -> dict:
     swa = left.columns["steering_wheel_angle_deg"]
     sl, sr = left.columns["steer_angle_deg"], right.columns["steer_angle_deg"]
     out["steering_ratio_overall"] = ackermann.steering_ratio_overall(swa, sl, sr)
-    centre = np.abs(swa) <= CENTRE_WINDOW_DEG
-    if centre.sum() >= 2:
-        mean = 0.5 * (sl + sr)
-        out["steering_ratio_centre"] = float(np.polyfit(mean[centre], swa[centre], 1)[0])
+    # d(steering-wheel angle)/d(mean steer), fitted where the steering wheel is on centre
+    out["steering_ratio_centre"] = slope(
+        0.5 * (sl + sr), swa, keep=np.abs(swa) <= CENTRE_WINDOW_DEG,
+        what=f"model '{left.model}': steering ratio on centre (steering_ratio_centre)",
+        where=f"with the steering-wheel angle within +-{CENTRE_WINDOW_DEG:g} deg",
+        remedy=finer(left, "steering"))
     k = int(np.argmax(0.5 * (sl + sr)))  # the left lock: both wheels steered left
     out["max_steer_inner_deg"], out["max_steer_outer_deg"] = float(sl[k]), float(sr[k])
     v = s.axle.vehicle
@@ -130,16 +137,19 @@ def _from_compliance(s: Suspension, C: np.ndarray | None) -> dict:
     if v is None:
         return out
     r = s.wheel.loaded_radius_mm
+    # a live axle (ADAMS/Car's dependent suspension): the pinion torque reacted by the housing
+    live = {} if v.live_axle_ratio is None else {"live_axle_ratio": v.live_axle_ratio,
+                                                 "track_mm": design_track_mm(s)}
     if v.position == "front":
         out["percent_anti_dive"] = _mean(axle_compliance.percent_anti_dive(
             Ci, v.wheelbase_mm, v.cg_height_mm, r, v.brake_fraction, v.brakes))
         out["percent_anti_lift_traction"] = _mean(axle_compliance.percent_anti_lift_traction(
-            Ci, v.wheelbase_mm, v.cg_height_mm, r, v.drive_fraction, v.drive))
+            Ci, v.wheelbase_mm, v.cg_height_mm, r, v.drive_fraction, v.drive, **live))
     else:
         out["percent_anti_lift_braking"] = _mean(axle_compliance.percent_anti_lift_braking(
             Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.brake_fraction, v.brakes))
         out["percent_anti_squat"] = _mean(axle_compliance.percent_anti_squat(
-            Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.drive_fraction, v.drive))
+            Ci, v.wheelbase_mm, v.cg_height_mm, r, 1.0 - v.drive_fraction, v.drive, **live))
     return out
 
 

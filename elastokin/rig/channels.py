@@ -125,10 +125,13 @@ CHANNEL_LIST = (
             "anti-roll bar torque [N*mm]", adams="arb_torque", per_axle=True),
     Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
             "(instant centres of both wheels in the front view, ADAMS/Car's kinematic "
-            "method; axle, parallel travel)", "roll centre height [mm]",
+            "method; axle, parallel travel (a solid axle: of its roll motion at each step), or "
+            "opposite wheel travel on an axle joined by a flexible beam)",
+            "roll centre height [mm]",
             adams="roll_center_location_vertical", per_axle=True),
     Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
-            "the vehicle's left (axle, parallel travel)", "roll centre lateral [mm] (+ left)",
+            "the vehicle's left (axle, parallel travel, or opposite wheel travel on an axle "
+            "joined by a flexible beam)", "roll centre lateral [mm] (+ left)",
             adams="roll_center_location_lateral", per_axle=True),
     Channel("load_fraction", "-", "fraction of the static load case's loads applied, 0 at "
             "the design wheel loads, 1 at the given loads", "load applied [-]",
@@ -177,6 +180,16 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
+#: loads.csv: force x y z (N), moment x y z (N*mm) in each frame (docs/characteristics.md)
+LOAD_COMPONENTS = ("fx", "fy", "fz", "mx", "my", "mz")
+LOAD_FRAMES = {"body": "the ground part's (config) frame", "local": "the element's own, fixed "
+               "to its first part: a bushing's (z axial), a joint's (z its axis; a ball joint: "
+               "the part's axes), the steering gear's (z along the rack); links, springs, "
+               "stops: z from its first part's point to the second's (fz > 0 in tension)"}
+LOAD_SIGN = ("force or moment the element applies to its first part (a connection's "
+             "parts[0]; a contact patch: the wheel's part) about its point on it")
+
+_LOAD = re.compile(r"(.+)_([fm])([xyz])_(body|local)_(N|Nmm)")
 _SPRING = re.compile(r"spring_(.+)_force_N")
 _STOP = re.compile(r"stop_(.+)_force_N")
 _BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
@@ -197,6 +210,11 @@ def channel(name: str) -> Channel | None:
         return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
                        "(bump) or together (rebound); 0 out of contact",
                        f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
+    m = _LOAD.fullmatch(name)
+    if m:
+        unit, what = ("N", "force") if m.group(2) == "f" else ("N*mm", "moment")
+        return Channel(name, unit, f"{LOAD_SIGN}; {m.group(4)}: {LOAD_FRAMES[m.group(4)]}",
+                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)")
     m = _BUSHING.fullmatch(name)
     if m:
         kind = "rot" if m.group(2) else "disp"
@@ -213,6 +231,12 @@ def bushing_columns(bushing: str) -> list[str]:
     units = ("mm", "mm", "mm", "deg", "deg", "deg")
     return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
                                                         units)]
+
+
+def load_column(item: str, component: str, frame: str) -> str:
+    """The loads.csv column of an element's load component (:data:`LOAD_COMPONENTS`) in a
+    frame (:data:`LOAD_FRAMES`), e.g. ``lca_bushing_fx_body_N``."""
+    return f"{item}_{component}_{frame}_{'N' if component[0] == 'f' else 'Nmm'}"
 
 
 def spring_column(spring: str) -> str:
@@ -282,8 +306,13 @@ LOAD_CASE_LIST = (
              "lateral force at the contact patch [N] (+ to the vehicle's left)",
              "lateral force at the contact patches in anti-phase", ("toe",), "patch", "left",
              corner=False),
+    LoadCase("vehicle_loads", "load_fraction", "load applied [-]",
+             "static loads from vehicle accelerations (one case each, vehicle_loads:<case>)",
+             ("toe",), corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
+#: the load case of one static-load case from vehicle accelerations (input load_fraction)
+VEHICLE_LOAD_CASE = "vehicle_loads:{}"
 #: the force-controlled load cases at the design wheel load
 FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 
@@ -376,7 +405,9 @@ def _axle(name: str, label: str, unit: str, fmt: str, definition: str) -> Charac
 AXLE_CHARACTERISTIC_LIST = (
     _axle("roll_centre_height_mm", "roll centre height (kinematic)", "mm", ".1f",
           "where the lines from each contact point normal to its velocity in parallel travel "
-          "meet (front view), above the contact points, at the static state"),
+          "(a solid axle: in its roll motion; in opposite wheel travel on an axle joined by a "
+          "flexible beam: a twist beam) meet (front view), above the contact points, at the "
+          "static state"),
     _axle("roll_centre_lateral_mm", "roll centre lateral (kinematic)", "mm", ".1f",
           "its lateral position, + to the vehicle's left"),
     _axle("roll_centre_height_force_based_mm", "roll centre height (force-based)", "mm",
@@ -465,5 +496,7 @@ def sign_conventions() -> dict[str, str]:
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
+    out["<element>_{fx,fy,fz,mx,my,mz}_{body,local}_{N,Nmm} (loads.csv)"] = (
+        f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out

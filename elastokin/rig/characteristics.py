@@ -158,9 +158,32 @@ def steer_amplitude_deg(sweep: Sweep) -> float:
 
 def bump_steer_deg_per_m(sweep: Sweep) -> float:
     """Toe change per wheel travel, least squares over exactly the symmetric bump-steer window
-    of the stroke (deg/m; :func:`elastokin.physics.wheel.windowed_slope`)."""
+    of the stroke (deg/m; :func:`elastokin.physics.wheel.windowed_slope`); NaN, with a
+    warning, when the window holds fewer than three distinct travel steps."""
     c = CHARACTERISTICS["bump_steer_deg_per_m"]
-    return c.scale * windowed_slope(sweep.stroke(c.x), sweep.stroke(c.y), c.window[1])
+    return c.scale * windowed_slope(
+        sweep.stroke(c.x), sweep.stroke(c.y), c.window[1], what=slope_subject(sweep, c),
+        where=f"of wheel travel within +-{c.window[1]:g} mm on the stroke",
+        remedy=finer(sweep, c.load_case))
+
+
+def slope_subject(sweep: Sweep, c) -> str:
+    """What a fitted characteristic ``c`` of ``sweep``'s model and wheel is, for a warning:
+    ``model 'initial', right wheel: bump steer (bump_steer_deg_per_m)``."""
+    wheel = f", {sweep.side} wheel" if sweep.side else ""
+    return f"model '{sweep.model}'{wheel}: {c.label} ({c.name})"
+
+
+def finer(sweep: Sweep, load_case: str) -> str:
+    """The remedy for a slope from too few steps of ``sweep`` (a warning's words)."""
+    if sweep.model == "test":
+        return f"the K&C test file of {load_case} has too few steps there"
+    return f"a finer step of the rig's {load_case} gives it"
+
+
+def determined(value) -> float | None:
+    """A summary figure as summary.json holds it: None when it is not determined (NaN)."""
+    return None if value is None or not np.isfinite(value) else float(value)
 
 
 def bump_steer_at_design_deg_per_m(sweep: Sweep) -> float | None:
@@ -186,23 +209,27 @@ def measured(sweep: Sweep, name: str) -> np.ndarray:
 
 def summary_figures(sweeps: list[Sweep], kinematic: bool,
                     compliance: np.ndarray | None = None) -> dict:
-    """The summary figures of one model (None when the load case was not run): steer
+    """The summary figures of one model (None when the load case was not run, or a slope is
+    not determined: :func:`elastokin.physics.wheel.slope`): steer
     amplitude, bump steer, the steering axis at the static state (design pad height, design
     wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` (over the
     measured rows, :func:`measured`) and the compliance matrix."""
     travel = find_sweep(sweeps, "parallel_travel")
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
-           "bump_steer_deg_per_m": bump_steer_deg_per_m(travel) if has_toe else None,
+           "bump_steer_deg_per_m": determined(bump_steer_deg_per_m(travel)) if has_toe
+           else None,
            "bump_steer_at_design_deg_per_m":
-               bump_steer_at_design_deg_per_m(travel) if has_toe else None,
+               determined(bump_steer_at_design_deg_per_m(travel)) if has_toe else None,
            "kinematic": kinematic}
     for name in STEERING_AXIS_COLUMNS:
         out[name] = static_row_value(travel, name) if travel is not None else None
     for name, g in GRADIENTS.items():
         sw = find_sweep(sweeps, g.load_case)
         ok = sw is not None and g.x in sw.columns and g.y in sw.columns
-        out[name] = g.scale * slope(measured(sw, g.x), measured(sw, g.y)) if ok else None
+        out[name] = None if not ok else determined(g.scale * slope(
+            measured(sw, g.x), measured(sw, g.y), what=slope_subject(sw, g),
+            where=f"of {g.x} in the {g.load_case} sweep", remedy=finer(sw, g.load_case)))
     if compliance is not None:
         out["compliance_matrix"] = {
             "rows": "wheel-centre displacement x y z [mm], rotation x y z [deg]",

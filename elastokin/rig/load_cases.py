@@ -25,7 +25,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
-from elastokin.physics.states import StepState, WheelArrays
+from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
@@ -99,11 +99,15 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
                 t = tangents[side].setdefault(name, np.zeros((len(steps), len(twins))))
                 t[:, k] = (np.asarray(moved[1][side][name], float)
                            - np.asarray(moved[-1][side][name], float)) / (2.0 * pair.step)
+    first = [st[s.side] for st in steps]
+    loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
+    poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
     sweeps = []
     for side in s.sides:
         if variations:
             tangents[side] = wheel_column_tangents([st[side] for st in steps], s.on_side(side))
-        sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side))
+        sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side,
+                            loads=loads if side == s.side else None, poses=poses))
     return sweeps
 
 

@@ -28,6 +28,7 @@ from elastokin.physics.steering_geometry import (
     kingpin_inclination_deg,
     scrub_radius_mm,
 )
+from elastokin.rig.channels import STEERING_AXIS_COLUMNS
 
 
 def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
@@ -35,9 +36,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     springs locked."""
     s = suspension
     wheel = s.wheel.part
-    elements: list[SkeletonElement] = []
-    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
-    racks = [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+    racks = _rack_joints(s)
     steer_links = [lk for lk in s.links if wheel in lk.parts]
     reason = None
     if racks:
@@ -56,6 +55,63 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     if not s.springs:
         reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
                             "computed with the springs locked)")
+    reason = reason or flexible_reason(s, "the steering axis is")
+    elements = skeleton_elements(s, True, released_links, springs_released=False)
+    elements, eliminated = eliminate_links(elements, s.ground, wheel)
+    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
+                            tuple(eliminated))
+
+
+def travel_skeleton(suspension: Suspension) -> SteeringSkeleton:
+    """Constraint skeleton of ``suspension`` for the wheel's travel: the springs' lengths
+    released (the input), the steering held (rack and tie rods); its screw axis gives the
+    front-view instant centre (:mod:`elastokin.rig.scene_motion`)."""
+    s = suspension
+    reason = (None if s.springs else "no spring: the wheel's travel input is not defined") \
+        or flexible_reason(s, "the instant centres are")
+    elements = skeleton_elements(s, False, set(), springs_released=True)
+    elements, eliminated = eliminate_links(elements, s.ground, s.wheel.part)
+    return SteeringSkeleton(s.ground, s.wheel.part, tuple(elements), "spring lengths", reason,
+                            tuple(eliminated))
+
+
+def flexible_reason(s: Suspension, what: str) -> str | None:
+    """Why a skeleton of rigid parts does not describe ``s`` (its flexible beam parts), for
+    ``what`` it would give."""
+    flexible = [b.part for b in s.beams if not b.rigid]
+    if not flexible:
+        return None
+    return f"the flexible beam part(s) {', '.join(flexible)}: {what} computed for rigid " \
+        "parts only"
+
+
+def _rack_joints(s: Suspension) -> list:
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    return [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+
+
+def skeleton_elements(s: Suspension, rack_released: bool, released_links: set[str],
+                      springs_released: bool) -> list[SkeletonElement]:
+    """Every joint, bushing (its ideal joint), link and spring of ``s`` as a skeleton
+    element: a rack's travel released or held (``rack_released``), the links named in
+    ``released_links`` released, the springs' lengths released or locked."""
+    elements = joint_elements(s, release_rack=rack_released)
+    for lk in s.links:
+        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
+                                        released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held; released: the travel's input
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm,
+                                        released=springs_released, spring=not springs_released))
+    return elements
+
+
+def joint_elements(suspension: Suspension, release_rack: bool) -> list[SkeletonElement]:
+    """Every ideal joint and every bushing (as its ideal joint, frozen at its deflection) of
+    ``suspension`` as skeleton elements; a steering rack free along its axis and released
+    (``release_rack``: the steering input) or held."""
+    s = suspension
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    elements: list[SkeletonElement] = []
     for j in s.joints:
         flags = list(j.constrained)
         shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
@@ -64,21 +120,26 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
         points = (j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0,
                   j.position_mm + shift1)
         if j.kind == "rack" or j.name == axle_rack:
-            flags[2] = 0  # the rack moves along its axis (the joint frame's z)
-            elements.append(SkeletonElement("joint", j.parts, points, frame, (0, 0, 1, 0, 0, 0),
-                                     released=True))
+            flags[2] = 0 if release_rack else 1  # the rack along its axis (the frame's z)
+            if release_rack:
+                elements.append(SkeletonElement("joint", j.parts, points, frame,
+                                                (0, 0, 1, 0, 0, 0), released=True))
         elements.append(SkeletonElement("joint", j.parts, points, frame, tuple(flags)))
     for b in s.bushings:
         elements.append(SkeletonElement("joint", b.parts, (b.position_mm, b.position_mm),
-                                 np.asarray(b.frame, float), CONSTRAINED[b.ideal_joint]))
-    for lk in s.links:
-        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
-                                 released=lk.name in released_links))
-    for sp in s.springs:  # locked: the travel is held
-        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm, spring=True))
-    elements, eliminated = eliminate_links(elements, s.ground, wheel)
-    return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
-                            tuple(eliminated))
+                                        np.asarray(b.frame, float),
+                                        CONSTRAINED[b.ideal_joint]))
+    return elements
+
+
+def steerable(suspension: Suspension) -> bool:
+    """Whether the wheel can be steered at all: a steering rack, or a link (tie rod, toe
+    link) on the wheel part. A suspension without either (a trailing arm, a solid axle) has no
+    steering axis: its columns are empty without a warning (docs/characteristics.md)."""
+    s = suspension
+    rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    return any(j.kind == "rack" or j.name == rack for j in s.joints) or \
+        any(s.wheel.part in lk.parts for lk in s.links)
 
 
 class SteeringAxisWarning(UserWarning):
@@ -94,10 +155,18 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
     s = suspension
     centre = np.array([st.wheel_centre_mm for st in states])
     spin = np.array([st.spin_axis for st in states])
-    axes = steering_axes_from_poses(steering_skeleton(s), [st.poses for st in states], centre)
+    if not steerable(s):
+        nan = np.full(len(states), np.nan)
+        return {name: nan.copy() for name in STEERING_AXIS_COLUMNS}
+    skeleton = steering_skeleton(s)
+    axes = steering_axes_from_poses(skeleton, [st.poses for st in states], centre)
     d, p = axes.direction.copy(), axes.point
     d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
-    if axes.reason is not None or np.isnan(d).any():
+    if skeleton.reason is not None:  # the suspension has none (the same for every run)
+        warnings.warn(SteeringAxisWarning(
+            f"{s.source}: no steering axis (NaN caster, kingpin inclination, scrub radius, "
+            f"caster trail): {skeleton.reason}"), stacklevel=2)
+    elif axes.reason is not None or np.isnan(d).any():
         bad = int(np.isnan(d).any(axis=1).sum())
         warnings.warn(SteeringAxisWarning(
             f"{s.source}: steering axis undefined at {bad} of {len(states)} steps (NaN "

@@ -14,6 +14,7 @@ doe_runner`). Sampling maps, sensitivity and outputs: docs/doe.md. Shifts mm, co
 from __future__ import annotations
 
 import json
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +24,10 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError, SolverError
 from elastokin.mbs.design import build_model, design_state, settle_by_continuation
+from elastokin.mbs.model import NO_LOADS
+from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.characteristics import summary_figures
+from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import drives, parallel_travel_drive, run_drive
 from elastokin.studies.doe_sampling import (
     ClearanceJoint,
@@ -81,8 +85,9 @@ def _context(job: dict):
 
 def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design):
     """The compliant Exudyn model of the as-built suspension (nominal design preloads, joints
-    shifted by ``shifts``, mm, config frame), built as ``elastokin synthesize`` builds it."""
-    return build_model(as_built(suspension, shifts, design).variant())
+    shifted by ``shifts``, mm, config frame), built as ``elastokin synthesize`` builds it;
+    the study reads no loads: none recorded."""
+    return build_model(as_built(suspension, shifts, design).variant(), NO_LOADS)
 
 
 #: fractions of the clearance shifts solved in turn when a sample's direct solve fails
@@ -111,14 +116,20 @@ def travel_sweep(model, label: str = "sample", spec=None):
     return run_drive(model, label, drive)
 
 
-def model_characteristics(model, load_cases: str = "all", label: str = "sample") -> dict:
+def model_characteristics(model, load_cases: str = "all", label: str = "sample",
+                          quiet: bool = False) -> dict:
     """The summary characteristics (summary.json names and units) of one model: steer
     amplitude, bump steer and camber from parallel travel; with ``all`` also the wheel rate and
-    the lateral, longitudinal, traction and aligning-torque compliances."""
+    the lateral, longitudinal, traction and aligning-torque compliances. A characteristic not
+    determined (a slope from too few rig steps) is left out; ``quiet``: without its warning
+    (the samples of a study: the nominal model's says it once)."""
     sweeps = [travel_sweep(model, label)]
     if load_cases == "all":
         sweeps += [run_drive(model, label, d) for d in drives(model.suspension)[1:]]
-    summary = summary_figures(sweeps, False)
+    with warnings.catch_warnings():
+        if quiet:
+            warnings.simplefilter("ignore", UndeterminedSlopeWarning)
+        summary = summary_figures(sweeps, False)
     return {k: float(v) for k, v in summary.items()
             if isinstance(v, float) and not isinstance(v, bool)}
 
@@ -134,10 +145,10 @@ def evaluate_sample(job: dict, index: int, shifts: dict[str, list[float]]) -> di
         sh = {k: np.asarray(v, float) for k, v in shifts.items()}
         try:
             model = as_built_model(s, sh, design)
-            values = model_characteristics(model, job["load_cases"], f"sample {index}")
+            values = model_characteristics(model, job["load_cases"], f"sample {index}", True)
         except SolverError:  # far from equilibrium at the design position: continuation
             model = as_built_model_by_continuation(s, sh, design)
-            values = model_characteristics(model, job["load_cases"], f"sample {index}")
+            values = model_characteristics(model, job["load_cases"], f"sample {index}", True)
             record["solved_by"] = "continuation from the nominal geometry"
         record.update(status="ok", error=None, characteristics=values)
     except ElastokinError as exc:
@@ -186,6 +197,7 @@ def make_study(suspension: Suspension, samples: int, method: str = "lhs", seed: 
         raise ConfigError(f"--samples: {samples:,} samples; at most {MAX_SAMPLES:,} (the sample "
                           "table stays below ~100 MB, and a million as-built sweeps already "
                           "take about 5 hours on 2 cores)")
+    check_rig(suspension)  # a load case given that cannot run: a warning
     joints = clearance_joints(suspension)
     d = sum(j.dimensions for j in joints)
     u = unit_samples(method, samples, d, seed)

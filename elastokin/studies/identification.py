@@ -6,19 +6,23 @@ mm, N, N*mm, deg; config frame."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
+from elastokin.formats.cmm_motion import motion_paths
 from elastokin.identification.geometric import (
     Identification,
     apply_design_loads,
     identify,
     verification_deviations,
 )
+from elastokin.identification.motion.identify import MotionIdentification, identify_motion
 from elastokin.mbs.design import build_model, design_state
 from elastokin.rig.load_cases import static_equilibrium
+from elastokin.studies.cache import content_key
 
 
 def identified_suspension(ident: Identification) -> Suspension:
@@ -53,3 +57,44 @@ def identify_geometry(suspension: Suspension, progress: Callable[[str], None] = 
         for cfg in (ident.initial_config, ident.identified_config):
             cfg["axle"] = plain_data(axle)
     return ident
+
+
+def motion_files(suspension: Suspension) -> list[Path]:
+    """The CMM files of the config's motion plan (for the cache key)."""
+    return list(motion_paths(suspension).values())
+
+
+def cached_step(cache, name: str, key: str, compute: Callable[[], object],
+                reused: Callable[[], None]):
+    """A step's result from ``cache`` (a :class:`~elastokin.studies.cache.ResultCache` or
+    None) when stored under ``name`` for ``key`` (``reused()`` then says so), else
+    ``compute()``; stored either way."""
+    found = cache.get(name, key) if cache is not None else None
+    if found is None:
+        found = compute()
+    else:
+        reused()
+    if cache is not None:
+        cache.put(name, key, found)
+    return found
+
+
+def motion_geometry(suspension: Suspension, progress: Callable[[str], None] = lambda m: None,
+                    cache=None) -> MotionIdentification | None:
+    """The step ``motion_geometry`` of the K&C job: the joints located from the parts' motion
+    when the config has a motion plan (``motion``; from ``cache`` when the config and the
+    files are those it was computed from). On an axle its config keeps the ``axle`` section:
+    the other side is the located corner mirrored."""
+    if suspension.motion is None:
+        return None
+
+    def compute() -> MotionIdentification:
+        progress("locating the joints from the parts' motion")
+        found = identify_motion(suspension, progress)
+        if suspension.axle is not None:
+            found.config["axle"] = plain_data(suspension.raw["axle"])
+        return found
+
+    key = content_key("motion_geometry", suspension.sha256, *motion_files(suspension))
+    return cached_step(cache, "motion_geometry", key, compute, lambda: progress(
+        "joints from motion reused (same config and CMM files)"))

@@ -3,10 +3,12 @@ and outputs (units mm, N, N*mm, deg; config frame):
 
 1. ``test_data``: the config's K&C test files as sweeps (bad files fail before any solving);
 2. ``geometry``: with CMM measurements, the identified geometry
-   (:func:`elastokin.studies.identification.identify_geometry`);
-3. ``model_variants``: which models run (initial, identified, initial_kinematic; a config
-   without measurements runs under its ``label``, e.g. ``identified`` for the config that
-   ``elastokin identify`` writes);
+   (:func:`elastokin.studies.identification.identify_geometry`); with a motion plan
+   (``motion``), the joints located from the parts' motion (``motion_geometry``,
+   :func:`elastokin.identification.motion.identify.identify_motion`);
+3. ``model_variants``: which models run (initial, identified, identified_motion,
+   initial_kinematic; a config without measurements runs under its ``label``, e.g.
+   ``identified`` for the config that ``elastokin identify`` writes);
 4. ``preloads``: each variant's design preloads (one solve per distinct suspension);
 5. ``static``: the static equilibrium of the reported model under the design wheel load;
 6. ``load_cases``: every load case of the rig on every model, and its compliance matrix;
@@ -21,6 +23,7 @@ The result files are written by :mod:`elastokin.report`.
 from __future__ import annotations
 
 import pickle
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -43,12 +46,16 @@ from elastokin.errors import ConfigError
 from elastokin.formats.cmm_parts import measurement_paths
 from elastokin.formats.kc_test_sweeps import read_test_sweeps, side_sweeps
 from elastokin.identification.geometric import Identification
+from elastokin.identification.motion.identify import MotionIdentification
 from elastokin.identification.stiffness import StiffnessFit, identify_stiffness, with_stiffness
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
+from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
+from elastokin.rig.channels import LOAD_CASE_LIST, LOAD_CASES
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
+from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import (
     StaticResult,
     run_load_cases_sides,
@@ -57,7 +64,12 @@ from elastokin.rig.load_cases import (
 )
 from elastokin.rig.sweeps import Sweep, find_sweep
 from elastokin.studies.cache import ResultCache, content_key
-from elastokin.studies.identification import identify_geometry
+from elastokin.studies.identification import (
+    cached_step,
+    identify_geometry,
+    motion_files,
+    motion_geometry,
+)
 
 Progress = Callable[[str], None]
 
@@ -69,9 +81,10 @@ def _quiet(msg: str) -> None:
 @dataclass
 class ModelResult:
     """Everything the K&C run produced for one model: the config side's sweeps and, on an
-    axle, the other wheel's (``other_sides``), the axle itself and the compliance of every
-    wheel centre (:func:`elastokin.rig.load_cases.wheel_compliance`: 6x6 on a corner, the
-    axle's 12x12 with the config side's wheel first; config frame; None: kinematic)."""
+    axle, the other wheel's (``other_sides``), the model's suspension (None: the test) and
+    the compliance of every wheel centre (:func:`elastokin.rig.load_cases.wheel_compliance`:
+    6x6 on a corner, the axle's 12x12 with the config side's wheel first; config frame; None:
+    kinematic)."""
 
     label: str
     kinematic: bool
@@ -79,7 +92,7 @@ class ModelResult:
     solver: dict
     compliance: np.ndarray | None = None
     other_sides: dict[str, list[Sweep]] = field(default_factory=dict)
-    axle: Suspension | None = None  # the model's suspension, when it is an axle
+    suspension: Suspension | None = None  # the model's (its geometry for the 3D view)
 
     def sweep(self, load_case: str) -> Sweep | None:
         return find_sweep(self.sweeps, load_case)
@@ -94,9 +107,9 @@ class ModelResult:
         sides = {side: summary_figures(sweeps, self.kinematic, None if c is None else c[6:, 6:])
                  for side, sweeps in self.other_sides.items()}  # the test's other wheel too
         out.update(sides)
-        if self.axle is None:
+        s = self.suspension
+        if s is None or s.axle is None:
             return out
-        s = self.axle
         by_side = {s.side: self.sweeps, **self.other_sides}
         out["axle"] = axle_characteristics(by_side, {s.side: out, **sides}, s, c)
         return out
@@ -117,6 +130,20 @@ class KCRun:
     # on comparing the models with the test, and the Python warnings of the run (add_warnings)
     warnings: list[str] = field(default_factory=list)
     reused: list[str] = field(default_factory=list)  # results taken from the cache
+    motion: MotionIdentification | None = None  # joints from motion, with a motion plan
+
+    def summaries(self) -> dict[str, dict]:
+        """Every model's summary figures (:meth:`ModelResult.summary`); a figure not
+        determined (a slope from too few points, :func:`elastokin.physics.wheel.slope`) is
+        None and its warning, issued again, goes into the run's warnings (summary.json)."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out = {label: m.summary() for label, m in self.models.items()}
+        self.add_warnings([" ".join(str(w.message).split()) for w in caught
+                           if issubclass(w.category, UndeterminedSlopeWarning)])
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return out
 
     def add_warnings(self, messages: list[str]) -> None:
         """Add warnings issued while the run was made (e.g. by ``elastokin kc``: the Python
@@ -141,16 +168,14 @@ def geometry(suspension: Suspension, progress: Progress = _quiet,
     ``cache`` when the config and the CMM files are those it was computed from)."""
     if suspension.measurements is None:
         return None
-    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
-    ident = cache.get("geometry", key) if cache is not None else None
-    if ident is None:
+
+    def compute() -> Identification:
         progress("identifying the geometry from CMM data")
-        ident = identify_geometry(suspension)
-    else:
-        progress("identified geometry reused (same config and CMM files)")
-    if cache is not None:
-        cache.put("geometry", key, ident)
-    return ident
+        return identify_geometry(suspension)
+
+    key = content_key("geometry", suspension.sha256, *measurement_files(suspension))
+    return cached_step(cache, "geometry", key, compute, lambda: progress(
+        "identified geometry reused (same config and CMM files)"))
 
 
 def model_labels(suspension: Suspension) -> list[str]:
@@ -159,14 +184,28 @@ def model_labels(suspension: Suspension) -> list[str]:
     With CMM ``measurements``: ``initial`` (joints from the parts measured alone) and
     ``identified`` (see :mod:`elastokin.identification.geometric`). Otherwise ``initial``
     (the config's geometry, under the config's ``label``, ``initial`` by default; kinematic
-    when the config says ``kinematic: true``) and, when it is compliant, ``initial_kinematic``
-    (``<label>_kinematic``: every bushing replaced by its ideal joint).
+    when the config says ``kinematic: true``) and, when it is compliant and has no motion
+    plan, ``initial_kinematic`` (``<label>_kinematic``: every bushing replaced by its ideal
+    joint). With a motion plan (``motion``), ``identified_motion`` (joints located from the
+    parts' motion, :mod:`elastokin.identification.motion`) as well.
     """
+    motion = ["identified_motion"] if suspension.motion is not None else []
     if suspension.measurements is not None:
-        return ["initial", "identified"]
+        return ["initial", "identified", *motion]
+    if motion:
+        return [suspension.label, *motion]
     if not suspension.kinematic and suspension.bushings:
         return [suspension.label, f"{suspension.label}_kinematic"]
     return [suspension.label]
+
+
+def start_label(suspension: Suspension) -> str:
+    """The model whose static state is reported and from which the stiffness fit starts:
+    ``identified`` with CMM measurements, else ``identified_motion`` with a motion plan,
+    else the config's own."""
+    if suspension.measurements is not None:
+        return "identified"
+    return "identified_motion" if suspension.motion is not None else suspension.label
 
 
 def select_models(suspension: Suspension, names: str | None) -> list[str]:
@@ -183,26 +222,31 @@ def select_models(suspension: Suspension, names: str | None) -> list[str]:
         what = f"unknown model {', '.join(unknown)}" if unknown else "no model named"
         raise ConfigError(f"--models {names}: {what}; {suspension.source} yields "
                           f"{', '.join(available)}")
-    if "identified_stiffness" in chosen:
-        start = "identified" if suspension.measurements is not None else suspension.label
-        chosen = list(dict.fromkeys([*chosen, start]))  # the fit starts from it
+    if "identified_stiffness" in chosen:  # the fit starts from it
+        chosen = list(dict.fromkeys([*chosen, start_label(suspension)]))
     return chosen
 
 
-def model_variants(suspension: Suspension, ident: Identification | None = None
-                   ) -> dict[str, ModelVariant]:
+def model_variants(suspension: Suspension, ident: Identification | None = None,
+                   motion: MotionIdentification | None = None) -> dict[str, ModelVariant]:
     """Step ``model_variants``: the models of the run (:func:`model_labels`), each the
     template with its overrides."""
     s = suspension
+
+    def from_config(label, cfg):
+        return ModelVariant(label, suspension_from_dict(cfg, f"{s.source} ({label})", s.sha256))
+
     if ident is not None:
-        return {label: ModelVariant(label, suspension_from_dict(cfg, f"{s.source} ({label})",
-                                                                s.sha256))
-                for label, cfg in (("initial", ident.initial_config),
-                                   ("identified", ident.identified_config))}
-    labels = model_labels(s)
-    variants = {labels[0]: ModelVariant(labels[0], s)}
-    if len(labels) > 1:
-        variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
+        variants = {label: from_config(label, cfg)
+                    for label, cfg in (("initial", ident.initial_config),
+                                       ("identified", ident.identified_config))}
+    else:
+        labels = model_labels(s)
+        variants = {labels[0]: ModelVariant(labels[0], s)}
+        if len(labels) > 1 and labels[1] == f"{s.label}_kinematic":
+            variants[labels[1]] = ModelVariant(labels[1], kinematic(s))
+    if motion is not None:
+        variants["identified_motion"] = from_config("identified_motion", motion.config)
     return variants
 
 
@@ -240,8 +284,7 @@ def load_cases(variant: ModelVariant, progress: Progress = _quiet,
     by_side = run_load_cases_sides(model, variant.label)
     return ModelResult(variant.label, variant.kinematic, by_side.pop(s.side),
                        model.solver_settings(),
-                       None if variant.kinematic else wheel_compliance(model), by_side,
-                       None if s.axle is None else s)
+                       None if variant.kinematic else wheel_compliance(model), by_side, s)
 
 
 def fits_stiffness(suspension: Suspension) -> bool:
@@ -264,6 +307,7 @@ def fit(suspension: Suspension, start: ModelVariant, test: list[Sweep],
                           "and kc_test.stiffness_identification.enabled: true")
     check_fit_on_corner(s)
     test = side_sweeps(test, s.side, s)  # the corner's wheel: the test's other wheel is not fitted
+    check_fit_test(s, test)
     return identify_stiffness(corner(start.suspension), corner_preloads(start), test,
                               s.kc_test.stiffness_identification, detail,
                               hidden=hidden_stiffness(s))
@@ -279,6 +323,22 @@ def check_fit_on_corner(suspension: Suspension) -> None:
             f"runs on one corner, and this axle's sides are coupled by {', '.join(couplings)}; "
             "fit the corner (the config without its 'axle' section) and give the axle its "
             "fitted laws, or set stiffness_identification.enabled: false")
+
+
+def check_fit_test(suspension: Suspension, test: list[Sweep]) -> None:
+    """The stiffness fit runs the corner's load cases of the test data: the test sweeps of
+    the config's wheel hold at least one (else one error naming the test folder)."""
+    if any(LOAD_CASES[sw.load_case].corner for sw in test):
+        return
+    s = suspension
+    folder = Path(s.source).parent / s.kc_test.folder
+    held = ", ".join(dict.fromkeys(sw.load_case for sw in test)) or "none"
+    corner_cases = ", ".join(c.name for c in LOAD_CASE_LIST if c.corner)
+    raise ConfigError(
+        f"{s.source}: key 'kc_test.stiffness_identification': the stiffness fit runs the "
+        f"corner load cases of the test data ({corner_cases}), and the K&C test files in "
+        f"{folder} hold none for the {s.side} wheel (they hold: {held}); add such a file or "
+        "set stiffness_identification.enabled: false")
 
 
 def corner_preloads(variant: ModelVariant) -> DesignState:
@@ -334,12 +394,18 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
+    check_rig(suspension)  # a case that cannot run: a warning; that cannot be built: an error
     check_fit_on_corner(suspension)
+    if test and fits_stiffness(suspension) and (models is None
+                                                or "identified_stiffness" in models):
+        check_fit_test(suspension, side_sweeps(test, suspension.side, suspension))
     ident = geometry(suspension, progress, cache)
+    motion = motion_geometry(suspension, progress, cache)
     fit_key = content_key("fit", suspension.sha256, *measurement_files(suspension),
-                          *map(Path, files))
+                          *motion_files(suspension), *map(Path, files))
     run = run_kc_from_identification(suspension, ident, progress, detail, (test, files),
-                                     models, None if cache is None else (cache, fit_key))
+                                     models, None if cache is None else (cache, fit_key),
+                                     motion)
     run.reused = list(cache.reused) if cache is not None else []
     return run
 
@@ -348,12 +414,15 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
                                progress: Progress = _quiet, detail: Progress = _quiet,
                                test: tuple[list[Sweep], list[str]] | None = None,
                                models: list[str] | None = None,
-                               fit_cache: tuple[ResultCache, str] | None = None) -> KCRun:
-    """The job from an identification result (None: the config's own geometry); ``models``:
-    only these (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
+                               fit_cache: tuple[ResultCache, str] | None = None,
+                               motion: MotionIdentification | None = None) -> KCRun:
+    """The job from an identification result (None: the config's own geometry) and the
+    joints located from the motion (``motion``, with a motion plan); ``models``: only these
+    (:func:`select_models`); ``fit_cache``: a cache and the fit's key."""
     test = test if test is not None else test_data(suspension)
-    variants = model_variants(suspension, ident)
-    static_label = "identified" if ident is not None else suspension.label
+    variants = model_variants(suspension, ident, motion)
+    static_label = "identified" if ident is not None else (
+        "identified_motion" if motion is not None else suspension.label)
     if models is not None:
         variants = {k: v for k, v in variants.items() if k in models}
         if static_label not in variants:
@@ -361,9 +430,11 @@ def run_kc_from_identification(suspension: Suspension, ident: Identification | N
     fit = models is None or "identified_stiffness" in models
     run = run_kc_from_variants(suspension, variants, static_label, test, progress, detail,
                                fit, fit_cache)
-    run.identification = ident
+    run.identification, run.motion = ident, motion
     if ident is not None:
         run.add_warnings(ident.all_warnings)  # printed by kc and kept in summary.json
+    if motion is not None:
+        run.add_warnings(motion.warnings)
     return run
 
 

@@ -71,7 +71,7 @@ MARK_MIN_RADIUS_MM = 100.0  # marks sit at least this far out from the joints' c
 MARK_MAX_GAIN = 1.3  # a pose from any 3 marks amplifies mark noise at the joints at most this
 
 
-def _random_rotation(rng: np.random.Generator) -> np.ndarray:
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
     return Rotation.from_quat(rng.normal(size=4)).as_matrix()
 
 
@@ -84,12 +84,12 @@ def _disc(rng, radius: float, axis: np.ndarray) -> np.ndarray:
     return r * (np.cos(phi) * e1 + np.sin(phi) * e2)
 
 
-def _ball(rng, radius: float) -> np.ndarray:
+def random_in_ball(rng, radius: float) -> np.ndarray:
     d = rng.normal(size=3)
     return radius * rng.uniform() ** (1 / 3) * d / np.linalg.norm(d)
 
 
-def _marks(rng, points: list[np.ndarray], eps_mm: float, part: str) -> np.ndarray:
+def place_marks(rng, points: list[np.ndarray], eps_mm: float, part: str) -> np.ndarray:
     """4 marks spread over the part: around the centroid of its joints, at 60-100 % of the
     joints' spread (at least ``MARK_MIN_RADIUS_MM``); their 6 distances differ by more than
     4 eps [2] and any 3 of them still give a pose that amplifies CMM noise at the joints by
@@ -110,7 +110,7 @@ def _marks(rng, points: list[np.ndarray], eps_mm: float, part: str) -> np.ndarra
     raise ConfigError(f"synthesize: could not place 4 distinct marks on part '{part}'")
 
 
-def _labels(pattern: str, n: int, part: str) -> list[str]:
+def mark_labels(pattern: str, n: int, part: str) -> list[str]:
     prefix = re.split(r"[*?\[]", pattern, maxsplit=1)[0]
     labels = [f"{prefix}{k}" for k in range(1, n + 1)]
     if not all(fnmatch.fnmatchcase(lb, pattern) for lb in labels):
@@ -119,7 +119,7 @@ def _labels(pattern: str, n: int, part: str) -> list[str]:
     return labels
 
 
-def _round(v, nd: int = 6):
+def rounded(v, nd: int = 6):
     a = np.round(np.asarray(v, float), nd) + 0.0
     return a.tolist()
 
@@ -139,7 +139,7 @@ def clearance_shifts(suspension: Suspension, rng: np.random.Generator) -> dict[s
         if name in bushings:
             shifts[name] = _disc(rng, jm.clearance.max_shift_mm, bushings[name].frame[:, 2])
         else:
-            shifts[name] = _ball(rng, jm.clearance.max_shift_mm)
+            shifts[name] = random_in_ball(rng, jm.clearance.max_shift_mm)
     return shifts
 
 
@@ -199,14 +199,14 @@ def as_built(suspension: Suspension, shifts: dict[str, np.ndarray], design=None)
     return AsBuilt(built, dict(shifts), preload, dict(design.spring_force_N), housing)
 
 
-def _loaded_poses(built: AsBuilt):
+def loaded_poses(built: AsBuilt):
     """The as-built suspension's part poses in its static equilibrium under the design load."""
     model = build_model(built.variant())
     static_equilibrium(model)
     return model.part_poses()
 
 
-def _features_and_truth(s: Suspension, spec: SuspensionFile, poses,
+def features_and_truth(s: Suspension, spec: SuspensionFile, poses,
                         housing: dict[str, np.ndarray], shifts: dict[str, np.ndarray]):
     """Every part's features in the design position (config frame): ``{part: {"points": {name:
     x}, "lines": {name.Z / name.X: (2, 3)}}}``, and the true joint locations of the loaded
@@ -268,7 +268,7 @@ def _write_part_alone(rng: np.random.Generator, folder: Path, ground: str, part:
     if part == ground:
         R, t = np.eye(3), np.zeros(3)
     else:
-        R, t = _random_rotation(rng), rng.uniform(-500, 500, size=3)
+        R, t = random_rotation(rng), rng.uniform(-500, 500, size=3)
 
     def local(x):  # design-position config frame -> part frame, with noise
         x = np.asarray(x, float)
@@ -299,23 +299,23 @@ def _measure_parts(rng: np.random.Generator, s: Suspension, syn: SyntheticSpec, 
     CMM frame (R, t)."""
     m = s.measurements
     files: list[Path] = []
-    cmm_R, cmm_t = _random_rotation(rng), rng.uniform(-2000, 2000, size=3)
+    cmm_R, cmm_t = random_rotation(rng), rng.uniform(-2000, 2000, size=3)
     gross_part = list(m.parts)[int(rng.integers(len(m.parts)))]
     gross = {}
     assembly_points: dict[str, np.ndarray] = {}
     for part, pspec in m.parts.items():
         f = features[part]
-        marks = _marks(rng, [*f["points"].values()], m.eps_mm, part)
+        marks = place_marks(rng, [*f["points"].values()], m.eps_mm, part)
         files += _write_part_alone(rng, folder, s.ground, part, pspec, f, marks, sigma, stamp)
         true_marks = poses.moved(part, marks) @ cmm_R.T + cmm_t
         measured = true_marks + rng.normal(scale=sigma, size=true_marks.shape)
         if part == gross_part:
             k = int(rng.integers(4))
             lo, hi = syn.gross_error_mm
-            error = _ball(rng, 1.0)
+            error = random_in_ball(rng, 1.0)
             error = rng.uniform(lo, hi) * error / np.linalg.norm(error)
             measured[k] += error
-            gross = {"part": part, "mark": pspec.marks[k], "error_mm": _round(error)}
+            gross = {"part": part, "mark": pspec.marks[k], "error_mm": rounded(error)}
         assembly_points[part] = measured[rng.permutation(4)]
     return files, assembly_points, gross, (cmm_R, cmm_t)
 
@@ -326,7 +326,7 @@ def _write_assembly(folder: Path, m: MeasurementsSpec, assembly_points: dict[str
     part's ``assembly.marks`` pattern in their scrambled order."""
     pts = {}
     for part, q in assembly_points.items():
-        for lb, x in zip(_labels(m.assembly.marks[part], 4, part), q):
+        for lb, x in zip(mark_labels(m.assembly.marks[part], 4, part), q):
             pts[lb] = x
     comment = ("assembled, loaded suspension: every part's marks in the CMM frame, unordered; mm"
                f"\n{stamp}")
@@ -348,13 +348,13 @@ def _write_truth(path: Path, s: Suspension, seed: int, syn: SyntheticSpec, sigma
         "seed": seed,
         "noise_mm": syn.noise_mm,
         "noise_sigma_per_coordinate_mm": round(sigma, 9),
-        "clearance_shift_mm": {k: _round(v) for k, v in shifts.items()},
+        "clearance_shift_mm": {k: rounded(v) for k, v in shifts.items()},
         "gross_error": gross,
-        "cmm_frame": {"rotation": _round(cmm_R, 9), "translation_mm": _round(cmm_t)},
-        "part_poses": {p: {"rotation": _round(poses.rotation[p], 9),
-                           "translation_mm": _round(poses.transform(p)[:3, 3])}
+        "cmm_frame": {"rotation": rounded(cmm_R, 9), "translation_mm": rounded(cmm_t)},
+        "part_poses": {p: {"rotation": rounded(poses.rotation[p], 9),
+                           "translation_mm": rounded(poses.transform(p)[:3, 3])}
                        for p in s.parts},
-        "joints": {k: _round(v) for k, v in truth.items()},
+        "joints": {k: rounded(v) for k, v in truth.items()},
     }
     header = ("# Synthetic as-built truth written by `elastokin synthesize` (see "
               "docs/measurements.md).\n# Units mm; config frame. cmm_frame: x_cmm = R "
@@ -399,8 +399,8 @@ def synthesize(suspension: Suspension, seed: int | None = None,
     # ---- as-built: clearance shifts (config frame, design position), loaded equilibrium
     shifts = clearance_shifts(s, rng)
     built = as_built(s, shifts, design)
-    poses = _loaded_poses(built)
-    features, truth = _features_and_truth(s, spec, poses, built.housing_mm, shifts)
+    poses = loaded_poses(built)
+    features, truth = features_and_truth(s, spec, poses, built.housing_mm, shifts)
 
     # ---- marks, part frames, CMM frame, noise
     folder.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,1 @@
+"""Joint locations from the parts' motion (no disassembly)."""
