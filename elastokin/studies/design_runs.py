@@ -126,7 +126,7 @@ def run_design(template: Suspension, variables: Sequence[DesignVariable], values
             if pairs:
                 compliance, d_compliance = compliance
         result = ModelResult(label, kin, by_side.pop(s.side), model.solver_settings(),
-                             compliance, by_side, None if s.axle is None else view)
+                             compliance, by_side, view)
         run.models[label] = result
         run.summary[label] = flat_summary(result.summary())
         if pairs:
@@ -159,7 +159,7 @@ def summary_tangents(result: ModelResult, pairs: Sequence[TwinPair],
                              for side, sweeps in result.other_sides.items()},
                 compliance=None if d_compliance is None else
                 result.compliance + h * d_compliance[:, :, k],
-                axle=None if result.axle is None else twin.suspension)
+                suspension=twin.suspension)
             figures.append(flat_summary(moved.summary()))
         for key in out:
             a, b = figures[0].get(key), figures[1].get(key)
