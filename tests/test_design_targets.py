@@ -242,3 +242,16 @@ def test_sensitivity_command_matches_a_full_rerun(tmp_path):
         f",{max(effects, key=lambda k: abs(effects[k])).replace('.', ',')},"
         f"{max(effects.values(), key=abs):.10g}")  # rank 1: the largest effect
     assert (out / "hardpoint_effects.png").exists() and (out / "report.html").exists()
+
+
+def test_flexible_beams_are_refused_by_name(tmp_path):
+    """Design sensitivities take every part as rigid: the twist beam's flexible cross beam is
+    named in one line (exit code 1, nothing written)."""
+    out = tmp_path / "sens"
+    r = CliRunner().invoke(main, ["sensitivity", "--config",
+                                  str(ROOT / "configs" / "twist_beam_axle.yaml"), "--rig",
+                                  str(ROOT / "configs" / "rigs" / "travel_only.yaml"),
+                                  "--out", str(out), "--quiet"])
+    assert r.exit_code == 1
+    assert "flexible beam part(s) cross_beam" in r.output and "Traceback" not in r.output
+    assert not out.exists()

@@ -41,7 +41,7 @@ from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.sensitivity import Residual, solve_tangents, system_matrices
-from elastokin.mbs.twins import twin_residuals
+from elastokin.mbs.twins import check_rigid, twin_residuals
 from elastokin.physics.joints import CONSTRAINED
 
 WHAT = "design preload sensitivities"
@@ -63,6 +63,7 @@ def design_state_tangents(suspension: Suspension,
     """The design preloads of ``suspension`` and, per design variable (the suspension at
     ``p + step``, at ``p - step``, and ``step``), their derivatives (a
     :class:`~elastokin.config.variants.DesignState` of derivatives; module docstring)."""
+    check_rigid(suspension)
     record: list[BalancingSolve] = []
     state = design_state(suspension, record)
     s = compliant(suspension)

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.sensitivity import (
@@ -69,6 +70,16 @@ class DesignArrays:
 
     states: dict[int, dict[str, object]]
     step: float
+
+
+def check_rigid(suspension) -> None:
+    """Design sensitivities take the parts' coordinates as rigid bodies' (6 each): refuse a
+    model with flexible beam parts, naming them."""
+    flexible = [b.part for b in getattr(suspension, "beams", ()) if not b.rigid]
+    if flexible:
+        raise ModelError(f"{suspension.source}: design sensitivities (optimize, sensitivity) "
+                         f"need rigid parts; the flexible beam part(s) {', '.join(flexible)} "
+                         "are not supported yet (without its 'beam' section a part is rigid)")
 
 
 def twin_model(model: SuspensionModel, suspension, preloads) -> SuspensionModel:

@@ -29,7 +29,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, kinematic
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.design_tangents import design_state_tangents
-from elastokin.mbs.twins import TwinPair, twin_model
+from elastokin.mbs.twins import TwinPair, check_rigid, twin_model
 from elastokin.rig.load_cases import run_load_cases_sides, wheel_compliance
 from elastokin.rig.sweeps import Sweep
 from elastokin.studies.kc_job import ModelResult
@@ -100,6 +100,8 @@ def run_design(template: Suspension, variables: Sequence[DesignVariable], values
     values = np.asarray(values, float)
     with_compliance = compliance
     s = design_suspension(template, variables, values)
+    if derivatives:
+        check_rigid(s)
     moved = []
     if derivatives:
         for k, v in enumerate(variables):
