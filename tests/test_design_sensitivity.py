@@ -140,19 +140,19 @@ def test_case_study_sensitivities_match_full_reruns():
 @pytest.mark.parametrize("label", ["initial", "initial_kinematic"])
 def test_double_wishbone_sensitivities_match_full_reruns(label):
     """The double wishbone axle (rack, anti-roll bar, stops), every load case of its kind,
-    hardpoints (tie rod, upper ball joint, wheel centre), the coil's rate and the rack's
-    ratio: every column of both wheels and every summary figure to 1e-4."""
+    hardpoints (the tie rod's inner height; the wheel centre, on which the contact point, the
+    track and the travel depend explicitly), the coil's rate and the rack's ratio: every
+    column of both wheels and every summary figure to 1e-4."""
     rig = dict(SHORT_RIG)
     rig["vertical_force"] = {"min_N": 4800, "max_N": 5800, "step_N": 500}
     rig["steering"] = {"amplitude_deg": 90, "step_deg": 45}
     s = nominal(DW, rig)
     variables = [DesignVariable("hardpoint", "tierod_inner", 2),
-                 DesignVariable("hardpoint", "uca_outer", 0),
                  DesignVariable("hardpoint", "wheel_centre", 1),
                  DesignVariable("spring_rate", "coil"), DesignVariable("rack_ratio")]
     steps = {"mm": 5e-2, "N/mm": 5e-2, "mm/rev": 5e-2}
     worst, where, checked = worst_mismatch(s, variables, (label,), steps)
-    assert checked > 500
+    assert checked > 400
     assert worst <= 1e-4, where
 
 

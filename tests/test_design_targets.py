@@ -190,7 +190,7 @@ def test_six_points_three_targets_checked_by_a_plain_kc(tmp_path):
     steer, bump camber and roll centre height at once on the compliant model; `elastokin kc`
     of the written config gives the same figures."""
     rig = write(tmp_path / "rig.yaml", "parallel_travel: {rebound_mm: -50, bump_mm: 50, "
-                "step_mm: 10, unloading: false}\nvertical_force: null\n")
+                "step_mm: 25, unloading: false}\nvertical_force: null\n")
     targets = ROOT / "configs" / "targets" / "double_wishbone_six_points.yaml"
     out = tmp_path / "opt"
     r = CliRunner().invoke(main, ["optimize", "--config", str(DW), "--targets", str(targets),
