@@ -16,9 +16,11 @@ the terms the design changes.
 
 The channels depend on the design explicitly as well (a point sensor's local position, the
 wheel centre a travel is measured from, the design toe): every output of a step is
-evaluated on the twins at ``y +- step * dy/dp`` (the sensors' values in that configuration),
-so that a channel computed from these two states by the rig's own code differs by exactly
-its derivative times ``2 step``.
+evaluated on the twins at ``y +- step * dy/dp`` (:func:`sensor_arrays`: the parts' poses,
+points, supports' reactions and spring and stop forces from the coordinates as Exudyn
+defines them, vectorised; the other sensors read from Exudyn in that configuration), so
+that a channel computed from these two states by the rig's own code differs by exactly its
+derivative times ``2 step``.
 
 Units: mm, rad inside (coordinates); the design variables in their own units.
 """

@@ -154,7 +154,9 @@ class RigSteps(list):
     sensitivities, ``design``: per design variable ``({sign: {side: WheelArrays}}, step)``,
     the wheels' states on its twins (:func:`wheel_arrays`)."""
 
-    design: list = []
+    def __init__(self, steps=(), design: list | None = None):
+        super().__init__(steps)
+        self.design = design or []
 
 
 def wheel_arrays(model: SuspensionModel, state: dict, side: str, displacement_control: bool,
