@@ -84,6 +84,13 @@ _API = {
     "as_built_model": "elastokin.studies.doe",
     "travel_sweep": "elastokin.studies.doe",
     "run_dask": "elastokin.studies.doe_runner",
+    # design to targets
+    "DesignVariable": "elastokin.config.design_variables",
+    "design_suspension": "elastokin.config.design_variables",
+    "load_targets": "elastokin.formats.targets",
+    "run_design": "elastokin.studies.design_runs",
+    "run_optimize": "elastokin.studies.design_job",
+    "sensitivity_table": "elastokin.studies.sensitivity_table",
     # the whole car
     "load_vehicle": "elastokin.config.vehicle",
     "run_vehicle": "elastokin.studies.vehicle_job",

@@ -112,8 +112,18 @@ def set_contact_path(model, name: str, ts: np.ndarray, values: np.ndarray) -> No
         mbs.SetObjectParameter(e["object"], "springForceTorqueUserFunction", 0)
         return
     symbolic = model.options.user_functions == "symbolic"
+    set_contact_function(model, name, make_path_function(ts, values, "load", symbolic),
+                         symbolic)
+
+
+def set_contact_function(model, name: str, path, symbolic: bool = False) -> None:
+    """Make the contact load ``name`` apply the force ``path(mbs, t, None)`` (N, config frame;
+    a path function of :mod:`elastokin.mbs.user_functions`, or any Python function of that
+    signature: the design sensitivities' twins feed the force of the step at hand,
+    :class:`~elastokin.mbs.twins.StepInputs`), and switch it on."""
+    e = model.loads[name]
     w = model.suspension.wheels[e["side"]]
-    path = make_path_function(ts, values, "load", symbolic)
+    model.mbs.SetObjectParameter(e["object"], "activeConnector", True)
     function = contact_load_function(path, w.loaded_radius_mm, symbolic)
     attach_user_function(model, e["object"], "springForceTorqueUserFunction", function,
                          symbolic, model.keep_alive)

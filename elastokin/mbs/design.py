@@ -9,6 +9,8 @@ variant with its design preloads. Units mm, N, N*mm; config frame.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from elastokin.config.suspension import Suspension
@@ -53,7 +55,25 @@ def balanced_springs(suspension: Suspension) -> tuple[str, ...]:
     return s.axle.balance_springs if s.axle is not None else (s.design.balance_spring,)
 
 
-def design_state(suspension: Suspension) -> DesignState:
+@dataclass
+class BalancingSolve:
+    """One solve of the design balancing (:func:`design_state` with ``record``): the pass
+    (0, then 1 and 2 after each relaxation of the stiff springs), the model and its
+    contact-patch supports by side, the balanced springs' forces (N), the stiff springs'
+    offsets (rad), whether the idle spins were held, and the converged coordinates and
+    multipliers."""
+
+    pass_index: int
+    model: SuspensionModel
+    supports: dict[str, str]
+    spring_force_N: np.ndarray
+    offsets: dict[str, np.ndarray]
+    idle: bool
+    coordinates: np.ndarray
+    multipliers: np.ndarray
+
+
+def design_state(suspension: Suspension, record: list | None = None) -> DesignState:
     """Spring and bushing preloads for the design position (see ``design`` in the config).
 
     With ``balance_bushing_preloads`` every bushing is held in its ideal joint's directions
@@ -62,7 +82,9 @@ def design_state(suspension: Suspension) -> DesignState:
     at which the contact patch carries the wheel load, a third the loads each bushing
     transmits at that P, which become the bushing preloads; the balance is solved again with
     the stiff springs relaxed at the rotations their torques caused. Otherwise the compliant
-    model is used and P found by the secant method.
+    model is used and P found by the secant method. ``record``: every balancing solve is
+    appended to it (:class:`BalancingSolve`; the design sensitivities,
+    :mod:`elastokin.mbs.design_tangents`).
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
     check_assembly(s)
@@ -75,6 +97,7 @@ def design_state(suspension: Suspension) -> DesignState:
     ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
     idle = [False]  # idle spins held: only when the plain balancing does not solve
     offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
+    relaxed = [0]  # the relaxations of the stiff springs so far (the balancing's pass)
     balanced = balanced_springs(s)
 
     def solve(p: np.ndarray):
@@ -89,6 +112,12 @@ def design_state(suspension: Suspension) -> DesignState:
                            "balancing the design position")[0]
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
         pads = np.array([0.0 + state.support_force_N[supports[side]][2] for side in s.sides])
+        if record is not None:
+            sd = model.mbs.systemData
+            record.append(BalancingSolve(
+                relaxed[0], model, supports, np.asarray(p, float).copy(),
+                {k: v.copy() for k, v in offsets.items()}, idle[0],
+                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
         return pads, loads
 
     def balance():
@@ -121,6 +150,7 @@ def design_state(suspension: Suspension) -> DesignState:
                 # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
                 offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
             if any(np.any(v) for v in offsets.values()):
+                relaxed[0] += 1
                 p1, loads = balance()
     if not balanced:
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
