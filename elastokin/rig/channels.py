@@ -181,6 +181,8 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
 _SPRING = re.compile(r"spring_(.+)_force_N")
+_LENGTH = re.compile(r"(spring|damper)_(.+)_length_mm")
+_RATIO = re.compile(r"(spring|damper)_(.+)_motion_ratio")
 _STOP = re.compile(r"stop_(.+)_force_N")
 _BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
 
@@ -195,6 +197,14 @@ def channel(name: str) -> Channel | None:
         return Channel(name, "N", "coil spring force, positive in compression",
                        f"spring {m.group(1)} force [N] (+ compression)",
                        adams=f"{m.group(1)}_spring_force")
+    m = _LENGTH.fullmatch(name) or _RATIO.fullmatch(name)
+    if m and name.endswith("_mm"):
+        return Channel(name, "mm", f"{m[1]} length between its points",
+                       f"{m[1]} {m[2]} length [mm]", adams=f"{m[2]}_{m[1]}_length")
+    if m:
+        return Channel(name, "-", f"motion ratio: the {m[1]}'s compression per wheel travel "
+                       "along the travel load case's motion, + when bump compresses it",
+                       f"{m[1]} {m[2]} motion ratio [-]", adams=f"{m[2]}_{m[1]}_motion_ratio")
     m = _STOP.fullmatch(name)
     if m:
         return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
@@ -224,6 +234,17 @@ def spring_column(spring: str) -> str:
 
 def stop_column(stop: str) -> str:
     return f"stop_{stop}_force_N"
+
+
+def length_column(kind: str, name: str) -> str:
+    """kc.csv column of a spring's or damper's (``kind``) length (mm)."""
+    return f"{kind}_{name}_length_mm"
+
+
+def motion_ratio_column(length: str) -> str | None:
+    """The motion-ratio column of a spring's or damper's length column (None: not one)."""
+    m = _LENGTH.fullmatch(length)
+    return None if m is None else f"{m.group(1)}_{m.group(2)}_motion_ratio"
 
 
 @dataclass(frozen=True)
@@ -332,6 +353,9 @@ CHARACTERISTIC_LIST = (
     Characteristic("wheel_rate_N_per_mm", "wheel rate", "N/mm", ".2f",
                    "least-squares slope of vertical force vs wheel travel",
                    "vertical_force", "wheel_travel_mm", "vertical_force_N"),
+    Characteristic("spring_wheel_rate_N_per_mm", "wheel rate from the springs", "N/mm", ".2f",
+                   "sum of rate x motion ratio^2 over the springs at the static state, a spring "
+                   "both wheels compress counted half (docs/characteristics.md)"),
     Characteristic("lateral_compliance_steer_deg_per_kN", "lateral compliance steer",
                    "deg/kN", ".4f", "toe per lateral force at the contact patch",
                    "lateral_force", "lateral_force_N", "toe_deg", 1000.0),
@@ -466,6 +490,8 @@ def sign_conventions() -> dict[str, str]:
     out = {"frame": "the config frame (see its 'frame' key); wheel-centre coordinates in it"}
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
+    out["spring_*_length_mm, damper_*_length_mm"] = channel("spring_s_length_mm").sign
+    out["spring_*_motion_ratio, damper_*_motion_ratio"] = channel("spring_s_motion_ratio").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out

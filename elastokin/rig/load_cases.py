@@ -27,9 +27,11 @@ from elastokin.config.schema_rig import (
 )
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
+from elastokin.rig.channels import LOAD_CASES
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
+    motion_ratio_columns,
     steer_sign,
     wheel_column_tangents,
 )
@@ -81,6 +83,8 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
         columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
+        if LOAD_CASES[drive.load_case].input == "wheel_travel_mm":  # the travel cases
+            columns.update(motion_ratio_columns(columns))
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
     return sweeps

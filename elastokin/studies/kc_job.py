@@ -53,7 +53,7 @@ from elastokin.mbs.model import SuspensionModel
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
 from elastokin.rig.channels import LOAD_CASE_LIST, LOAD_CASES
-from elastokin.rig.characteristics import summary_figures
+from elastokin.rig.characteristics import spring_shares, summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
 from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import (
@@ -92,6 +92,7 @@ class ModelResult:
     compliance: np.ndarray | None = None
     other_sides: dict[str, list[Sweep]] = field(default_factory=dict)
     axle: Suspension | None = None  # the model's suspension, when it is an axle
+    springs: dict[str, tuple[float, float]] = field(default_factory=dict)  # spring_shares
 
     def sweep(self, load_case: str) -> Sweep | None:
         return find_sweep(self.sweeps, load_case)
@@ -101,9 +102,9 @@ class ModelResult:
         config side's wheel; the other wheel's under its side (an axle, or a test with both
         wheels) and on an axle the axle's (``axle``,
         :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
-        c = self.compliance
-        out = summary_figures(self.sweeps, self.kinematic, None if c is None else c[:6, :6])
-        sides = {side: summary_figures(sweeps, self.kinematic, None if c is None else c[6:, 6:])
+        c, k = self.compliance, self.kinematic
+        out = summary_figures(self.sweeps, k, None if c is None else c[:6, :6], self.springs)
+        sides = {side: summary_figures(sweeps, k, None if c is None else c[6:, 6:], self.springs)
                  for side, sweeps in self.other_sides.items()}  # the test's other wheel too
         out.update(sides)
         if self.axle is None:
@@ -284,8 +285,7 @@ def load_cases(variant: ModelVariant, progress: Progress = _quiet,
     return ModelResult(variant.label, variant.kinematic, by_side.pop(s.side),
                        model.solver_settings(),
                        None if variant.kinematic else wheel_compliance(model), by_side,
-                       None if s.axle is None else s)
-
+                       None if s.axle is None else s, spring_shares(s))
 
 def fits_stiffness(suspension: Suspension) -> bool:
     """True when ``elastokin kc`` adds the ``identified_stiffness`` model: K&C test data,
