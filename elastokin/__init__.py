@@ -37,6 +37,7 @@ _API = {
     "load_suspension_with_rig": "elastokin.config.loading",
     "load_rig": "elastokin.config.loading",
     "suspension_from_dict": "elastokin.config.loading",
+    "data_folders": "elastokin.config.confined",
     "Suspension": "elastokin.config.suspension",
     "ModelVariant": "elastokin.config.variants",
     "DesignState": "elastokin.config.variants",

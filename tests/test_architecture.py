@@ -15,7 +15,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "elastokin"
 #: lowest first; a module may import from its own layer and the layers before it
 LAYERS = ("errors", "version", "physics", "config", "mbs", "rig", "formats", "identification",
           "synthetic", "studies", "report", "cli")
-THIRD_PARTY = {"exudyn": "mbs", "matplotlib": "report", "dask": "studies",
+THIRD_PARTY = {"exudyn": "mbs", "matplotlib": "report", "plotly": "report", "dask": "studies",
                "distributed": "studies"}
 
 

@@ -20,7 +20,14 @@ from click.testing import CliRunner
 
 from elastokin.cli import main
 from elastokin.studies import cache as cache_module
-from elastokin.studies.cache import MAGIC, CacheWarning, ResultCache, content_key, key_file
+from elastokin.studies.cache import (
+    CACHE_FORMAT,
+    MAGIC,
+    CacheWarning,
+    ResultCache,
+    content_key,
+    key_file,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "configs" / "pseudo_mcpherson.yaml"
@@ -109,7 +116,7 @@ def test_a_genuine_entry_round_trips_and_another_inputs_entry_is_silently_stale(
     genuine = _genuine(tmp_path, "models", "k1", {"toe": [0.1, 0.2]})
     (tmp_path / ".cache").mkdir()
     (tmp_path / ".cache" / "models.pkl").write_bytes(genuine)
-    assert genuine.startswith(MAGIC + b" 5 models k1 ")
+    assert genuine.startswith(MAGIC + f" {CACHE_FORMAT} models k1 ".encode())
     cache = ResultCache(tmp_path / ".cache", None)
     with _no_warning():
         assert cache.get("models", "k2") is None  # inputs changed: no warning
@@ -178,8 +185,9 @@ BROKEN_ENTRIES = {
     "truncated": (lambda p, g: p.write_bytes(g[:-10]), "truncated or extended"),
     "bytes appended": (lambda p, g: p.write_bytes(g + b"\0"), "truncated or extended"),
     "first line cut": (lambda p, g: p.write_bytes(g[:40]), "not an elastokin cache entry"),
-    "an older format": (lambda p, g: p.write_bytes(g.replace(b" 5 ", b" 4 ", 1)),
-                        "cache format '4' (this elastokin reads 5)"),
+    "an older format": (lambda p, g: p.write_bytes(g.replace(
+        f" {CACHE_FORMAT} ".encode(), f" {CACHE_FORMAT - 1} ".encode(), 1)),
+        f"cache format '{CACHE_FORMAT - 1}' (this elastokin reads {CACHE_FORMAT})"),
     "another entry's file": (lambda p, g: p.write_bytes(g.replace(b" models ", b" geometry ",
                                                                   1)),
                              "an entry for 'geometry', not 'models'"),

@@ -20,7 +20,9 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
+from elastokin.cli.common import data_hint
 from elastokin.cli.main import main
+from elastokin.config.confined import data_folders
 from elastokin.config.loading import load_suspension, read_yaml
 from elastokin.errors import ConfigError
 from elastokin.formats.adams_car import import_adams, read_hardpoints
@@ -261,7 +263,8 @@ def test_missing_property_file_names_the_subsystem_and_usage(tmp_path):
 
 def project(tmp_path: Path, monkeypatch, edit) -> Path:
     """The case study's config in ``tmp_path/proj/cfg`` with its CMM files in ``cfg/meas`` and
-    one K&C test file in ``proj/kc``, run from ``tmp_path/proj`` (the working folder); then
+    one K&C test file in ``proj/kc`` (beside the config's folder: read with ``--data``), run
+    from ``tmp_path`` (the working folder, which holds the outside folder too); then
     ``edit(data, outside)``."""
     outside = outside_folder(tmp_path)
     cfg = tmp_path / "proj" / "cfg" / "case.yaml"
@@ -274,7 +277,7 @@ def project(tmp_path: Path, monkeypatch, edit) -> Path:
     data["kc_test"].update(folder="../kc", files={})
     edit(data, outside)
     cfg.write_text(yaml.safe_dump(data, sort_keys=False))
-    monkeypatch.chdir(tmp_path / "proj")
+    monkeypatch.chdir(tmp_path)  # the working folder gives no access: only --data does
     return cfg
 
 
@@ -308,11 +311,12 @@ def test_config_data_paths_outside_its_folders(tmp_path, monkeypatch, key):
     else:
         edit = _set(key, value)
     cfg = project(tmp_path, monkeypatch, edit)
-    with watching_opens() as opened, pytest.raises(ConfigError) as exc:
+    with watching_opens() as opened, pytest.raises(ConfigError) as exc, \
+            data_folders([tmp_path / "proj" / "kc"]):
         step(load_suspension(cfg))
     msg = str(exc.value)
-    assert msg.startswith(f"{cfg}: key '{key}': ") and "outside the config's folder, the " \
-        "working folder" in msg, msg
+    assert msg.startswith(f"{cfg}: key '{key}': ") and "outside the config's folder and the " \
+        "folders given" in msg and "--data FOLDER" in msg, msg
     never_opened(opened, tmp_path / "outside")
 
 
@@ -322,25 +326,55 @@ def test_config_kc_test_file_linked_out(tmp_path, monkeypatch):
         tmp_path / "outside" / "secret.csv")
     with watching_opens() as opened, pytest.raises(
             ConfigError, match=r"key 'kc_test.folder': file 'vertical_force.csv' leads to "
-                               r".*outside/secret.csv, outside"):
+                               r".*outside/secret.csv, outside"), \
+            data_folders([tmp_path / "proj" / "kc"]):
         read_test_sweeps(load_suspension(cfg))
     never_opened(opened, tmp_path / "outside")
 
 
 def test_config_data_inside_its_folders_is_read(tmp_path, monkeypatch):
-    """Data beside the config, and data reached from a config in a results folder through
-    the working folder (as identify writes it: ``../../configs/...``)."""
+    """Data beside the config are read; data beside its folder only with ``--data`` (not
+    because the working folder holds them); a config written into a results folder
+    (``identify``: ``../../kc``) reads them with ``--data`` too."""
     cfg = project(tmp_path, monkeypatch, lambda data, outside: None)
     s = load_suspension(cfg)
     assert set(measurement_paths(s)) == {*s.measurements.parts, "assembly", "truth"}
-    assert read_test_sweeps(s)[1] == [str(tmp_path / "proj" / "cfg" / "../kc" /
-                                          "parallel_travel.csv")]
+    with pytest.raises(ConfigError, match=r"key 'kc_test.folder': folder '../kc' leads to "
+                                          r".*proj/kc, outside the config's folder \("):
+        read_test_sweeps(s)
+    with data_folders([tmp_path / "proj" / "kc"]):
+        assert read_test_sweeps(s)[1] == [str(tmp_path / "proj" / "cfg" / "../kc" /
+                                              "parallel_travel.csv")]
     results = tmp_path / "proj" / "results" / "ident"
     results.mkdir(parents=True)
     data = read_yaml(cfg)[0]
     data["kc_test"]["folder"] = "../../kc"
     (results / "identified.yaml").write_text(yaml.safe_dump(data))
-    assert len(read_test_sweeps(load_suspension(results / "identified.yaml"))[1]) == 1
+    with data_folders([tmp_path / "proj"]):
+        assert len(read_test_sweeps(load_suspension(results / "identified.yaml"))[1]) == 1
+
+
+def test_a_written_config_says_and_takes_its_data_folders(tmp_path, monkeypatch):
+    """A config written into a results folder (as `identify` writes it: ``../../kc``) is
+    printed with the ``--data`` folder it needs; `kc` refuses it without, runs it with."""
+    cfg = project(tmp_path, monkeypatch, lambda data, outside: None)
+    written = tmp_path / "proj" / "results" / "ident" / "identified.yaml"
+    written.parent.mkdir(parents=True)
+    data = read_yaml(cfg)[0]
+    del data["measurements"]
+    data["kc_test"].update(folder="../../kc", stiffness_identification={"enabled": False})
+    written.write_text(yaml.safe_dump(data))
+    assert data_hint(written, load_suspension(cfg), ("kc_test",)) == (
+        f"its data lie outside its folder: elastokin kc --config {written} --data "
+        f"{tmp_path / 'proj' / 'kc'}")
+    assert data_hint(cfg.parent / "x.yaml", load_suspension(cfg), ("measurements",)) is None
+    args = ["kc", "--config", str(written), "--out", str(tmp_path / "kc"), "--quiet",
+            "--models", "initial", "--rig", str(CASE.parent / "rigs" / "travel_only.yaml")]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 1 and "key 'kc_test.folder'" in r.output and "--data FOLDER" in \
+        r.output, r.output
+    r = CliRunner().invoke(main, [*args, "--data", str(tmp_path / "proj" / "kc")])
+    assert r.exit_code == 0, r.output
 
 
 def test_synthesize_writes_nothing_outside(tmp_path, monkeypatch):

@@ -118,7 +118,7 @@ def test_kc_on_the_identified_config_overlays_the_test(identified, tmp_path):
     res = tmp_path / "kc"
     result = CliRunner().invoke(main, ["kc", "--config", str(out / "identified.yaml"),
                                        "--rig", str(RIG), "--out", str(res), "--models",
-                                       "identified"])
+                                       "identified", "--data", str(CASE.parent)])
     assert result.exit_code == 0, result.output
     summary = json.loads((res / "summary.json").read_text())
     assert list(summary["models"]) == ["test", "identified"]

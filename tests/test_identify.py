@@ -244,13 +244,14 @@ def test_identify_cli_contract_and_identified_config_runs(tmp_path, case_path, c
     # the identified config is a config: kc runs it and gets the kc job's identified model
     kc_out = tmp_path / "kc"
     result = run("kc", "--config", out / "identified.yaml", "--out", kc_out, "--quiet",
-                 "--models", "identified,identified_kinematic")  # the fit: test_kc_test
+                 "--models", "identified,identified_kinematic",  # the fit: test_kc_test
+                 "--data", CASE.parent)  # the test data beside the case study's config
     assert result.exit_code == 0, result.output
     # ... and so is initial.yaml, whose spring seats sit off its strut axis (the housing
     # centre moved J4): its kinematic model used to diverge (issue 15); the stiffness fit
     # belongs to the identified model (switched off in initial.yaml)
     result = run("kc", "--config", out / "initial.yaml", "--out", tmp_path / "kc_initial",
-                 "--quiet")
+                 "--quiet", "--data", CASE.parent)
     assert result.exit_code == 0, result.output
     initial = json.loads((tmp_path / "kc_initial" / "summary.json").read_text())["models"]
     assert list(initial) == ["test", "initial", "initial_kinematic"]

@@ -106,7 +106,8 @@ def test_kc_runs_identified_motion_beside_the_disassembly_model(tmp_path):
     out = tmp_path / "res"
     result = CliRunner().invoke(main, [
         "kc", "--config", str(path), "--out", str(out), "--quiet", "--models",
-        "identified,identified_motion", "--rig", str(CASE.parent / "rigs" / "travel_only.yaml")])
+        "identified,identified_motion", "--rig", str(CASE.parent / "rigs" / "travel_only.yaml"),
+        "--data", str(CASE.parent)])  # the measurements beside the case study's config
     assert result.exit_code == 0, result.output
     summary = json.loads((out / "summary.json").read_text())
     assert list(summary["models"]) == ["identified", "identified_motion"]

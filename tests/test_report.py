@@ -116,9 +116,9 @@ def axle_page(axle_results) -> Page:
 
 
 def test_a_section_per_stage_in_order(page):
-    assert [s[0] for s in page.sections] == ["summary", "warnings", "identification",
+    assert [s[0] for s in page.sections] == ["summary", "warnings", "view", "identification",
                                              "static", "characteristics", "charts", "axle",
-                                             "errors", "signs", "provenance"]
+                                             "loads", "errors", "signs", "provenance"]
     for number, (key, heading) in enumerate(page.sections, start=1):
         assert heading == f"{number}. {HEADINGS[key]}"
 
@@ -183,9 +183,9 @@ def _rows(page: Page) -> dict[str, list[str]]:
 
 def test_axle_section_of_the_double_wishbone_axle(axle_page, axle_results):
     summary = json.loads((axle_results / "summary.json").read_text())
-    assert [s[0] for s in axle_page.sections] == ["summary", "warnings", "static",
+    assert [s[0] for s in axle_page.sections] == ["summary", "warnings", "view", "static",
                                                   "characteristics", "charts", "axle",
-                                                  "signs", "provenance"]
+                                                  "loads", "signs", "provenance"]
     # the rig's 25 deg steering step leaves one steering-wheel angle (0) in the +-20 deg
     # window of the on-centre steering ratio: not determined, a dash and a warning saying why
     assert [summary["models"][m]["axle"]["steering_ratio_centre"] for m in summary["models"]
@@ -235,7 +235,8 @@ def test_axle_charts_in_the_axle_section_with_captions(axle_page, axle_results):
     ids = [f["id"].removeprefix("chart-") for f in axle_page.figures]
     assert ids == ["steer_vs_travel", "camber_vs_travel", "wheel_centre_lateral_vs_travel",
                    "toe_vs_roll_angle", "camber_vs_roll_angle", "roll_moment_vs_roll_angle",
-                   "steer_vs_steering_wheel_angle", "roll_centre_height_vs_travel"]
+                   "steer_vs_steering_wheel_angle", "roll_centre_height_vs_travel",
+                   "largest_loads"]
     assert all((axle_results / f"{i}.png").exists() for i in ids)
     captions = {f["id"].removeprefix("chart-"): f["caption"] for f in axle_page.figures}
     assert captions["toe_vs_roll_angle"].startswith("Chart 4. Toe vs roll angle")

@@ -16,7 +16,15 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error
+from elastokin.cli.common import (
+    Output,
+    WarningLog,
+    check_writable,
+    data_hint,
+    data_option,
+    fail,
+    os_error,
+)
 from elastokin.errors import ConfigError, ElastokinError
 
 
@@ -77,6 +85,7 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
     to the template's frame) and the stiffness of the named bushings from .bus files; for an
     axle template also the other side, the anti-roll bar and the steering rack ratio."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
+    from elastokin.config.variants import relabelled
     from elastokin.formats.adams_car import read_bushing
     from elastokin.formats.adams_database import input_roots
     from elastokin.formats.adams_import import import_adams_axle, subsystem_files
@@ -102,8 +111,9 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
                                                     f"template {template_path}", roots)
             _keep_data_folders(cfg, template_path, out_path)
             # the new config must be valid; an error names the template it was made from
-            suspension_from_dict(cfg, f"{out_path} (the template {template_path} with the "
-                                      "ADAMS hardpoints and bushings)")
+            new = suspension_from_dict(cfg, f"{out_path} (the template {template_path} with "
+                                            "the ADAMS hardpoints and bushings)")
+            hint = data_hint(out_path, relabelled(new, str(out_path)))
             subs = [f for f in (files.suspension, files.anti_roll_bar, files.steering) if f]
             sources = [*(f"subsystem {f} (sha256 {_sha(f)})" for f in subs),
                        f"mapping {mapping_path} (sha256 {_sha(mapping_path)})",
@@ -119,7 +129,7 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
         except OSError as exc:
             fail(f"--out {out_path}: cannot write ({exc.strerror or exc})")
     log.echo(warnings)
-    click.echo(f"wrote {out_path}")
+    click.echo(f"wrote {out_path}" + (f"; {hint}" if hint else ""))
 
 
 def _position(template: dict) -> str | None:
@@ -218,6 +228,7 @@ def _export_output(out_dir: Path):
               help="Half-range of the tables written for linear translational rates (mm).")
 @click.option("--range-deg", default=10.0, show_default=True, type=float,
               help="Half-range of the tables written for linear rotational rates (deg).")
+@data_option
 def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
                  template_name: str | None, major_role: str | None, minor_role: str | None,
                  database: str | None, identified: bool, kc_csv: Path | None,

@@ -6,6 +6,7 @@ computation and replaced only when a run succeeded (its staging folders and move
 from __future__ import annotations
 
 import errno
+import functools
 import os
 import shutil
 import sys
@@ -198,3 +199,41 @@ rig_option = click.option(
     show_default="the config's rig section",
     help="Rig file (YAML): the load cases to run instead of the config's 'rig' section "
          "(README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
+
+
+def data_option(command):
+    """``--data FOLDER`` (repeatable) on a command that reads a config's data: the command
+    runs with those folders allowed besides the config's own
+    (:func:`elastokin.config.confined.data_folders`)."""
+
+    @functools.wraps(command)
+    def run(*args, data_typed: tuple[Path, ...] = (), **kwargs):
+        from elastokin.config.confined import data_folders
+
+        with data_folders(data_typed):
+            return command(*args, **kwargs)
+
+    return click.option(
+        "--data", "data_typed", multiple=True, metavar="FOLDER",
+        type=click.Path(file_okay=False, path_type=Path),
+        help="A folder the config's data (CMM, motion and K&C test files) may also lie in, "
+             "besides the config's own folder (repeatable; README 'Which paths may point "
+             "anywhere'). E.g. --data configs for a config that identify wrote.")(run)
+
+
+def data_hint(written: Path, suspension,
+              sections: tuple[str, ...] = ("measurements", "motion", "kc_test")) -> str | None:
+    """How to run the config ``written`` (by identify or import-adams) that names the data
+    folders of ``suspension``'s ``sections`` as they are: the ``--data`` folders it needs,
+    None when its data lie in its own folder."""
+    from elastokin.config.confined import Roots, resolved
+
+    own = Roots.of([written.parent], "")
+    folders = [Path(suspension.source).parent / getattr(suspension, section).folder
+               for section in sections if getattr(suspension, section, None) is not None]
+    outside = list(dict.fromkeys(os.path.normpath(f) for f in folders
+                                 if not own.hold(resolved(f))))
+    if not outside:
+        return None
+    return (f"its data lie outside its folder: elastokin kc --config {written} "
+            + " ".join(f"--data {f}" for f in outside))

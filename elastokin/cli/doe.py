@@ -17,7 +17,7 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import WarningLog, check_writable, fail, os_error, rig_option
+from elastokin.cli.common import WarningLog, check_writable, data_option, fail, os_error, rig_option
 from elastokin.errors import ElastokinError
 
 EXIT_FAILED_SAMPLES = 3
@@ -73,6 +73,7 @@ def _check_out(out: Path, store_name: str) -> None:
 @click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
               "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
+@data_option
 def doe(config_path: Path, samples: int, method: str, seed: int, load_cases: str,
         rig_path: Path | None, scheduler: str | None, workers: int | None,
         out_dir: Path | None, restart: bool, svg: bool, quiet: bool) -> None:

@@ -12,7 +12,16 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, check_writable, fail, os_error, rig_option
+from elastokin.cli.common import (
+    Output,
+    WarningLog,
+    check_writable,
+    data_hint,
+    data_option,
+    fail,
+    os_error,
+    rig_option,
+)
 from elastokin.errors import ElastokinError
 
 #: model runs the progress bar expects of a stiffness fit (the case study takes 6)
@@ -59,6 +68,7 @@ def progress_bar(stages: int, quiet: bool = False):
 @click.option("--svg", is_flag=True, help="Also write every chart as SVG (PNG only by "
               "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
+@data_option
 def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
        refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
@@ -116,6 +126,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
                    "K&C test data (kc_test) and write identified_stiffness.yaml and "
                    "stiffness_identification.json/.txt.")
 @click.option("--quiet", is_flag=True, help="No progress, no table.")
+@data_option
 def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bool) -> None:
     """Identify the joint locations from CMM data (the reference paper's method) and, with a
     motion plan, from the parts' motion.
@@ -179,6 +190,10 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
         if result is not None:
             click.echo(result.table())
         click.echo(f"Results in {out_dir}/: " + ", ".join(files))
+        hint = data_hint(out_dir / ("identified.yaml" if ident is not None
+                                    else "identified_motion.yaml"), suspension, ("kc_test",))
+        if hint:
+            click.echo(f"To run the identified model, {hint}")
 
 
 def _identified_fit(suspension, ident, motion, test, progress):
@@ -219,6 +234,7 @@ def _identified_fit(suspension, ident, motion, test, progress):
               help="Write only the CMM files, only the K&C test files or only the motion "
                    "plan's CMM files (default: each the config has a section for; the K&C "
                    "test files with kc_test.synthetic).")
+@data_option
 def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
                kc_test_dir: Path | None, motion_dir: Path | None, only: str | None) -> None:
     """Synthetic case-study data: virtual CMM files and K&C rig test files.

@@ -9,6 +9,7 @@ import click
 from elastokin.cli.adams import export_adams, import_adams
 from elastokin.cli.doe import doe
 from elastokin.cli.kc import identify, kc, synthesize
+from elastokin.cli.view import view
 from elastokin.version import __version__
 
 
@@ -48,7 +49,7 @@ def main() -> None:
     """elastokin: suspension elastokinematics on Exudyn (units mm, N, N*mm, deg)."""
 
 
-for command in (kc, identify, synthesize, doe, import_adams, export_adams):
+for command in (kc, identify, synthesize, doe, import_adams, export_adams, view):
     main.add_command(command)
 
 if __name__ == "__main__":  # pragma: no cover

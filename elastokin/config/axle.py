@@ -333,3 +333,26 @@ def check_both_sides(s, spec: AxleSpec, fail) -> None:
                 raise fail(f"{found[0]}.{name}", f"listed in axle.both_sides, but its point at "
                            f"y = {p[1]:.6g} mm is not on the {s.side} side of the vehicle "
                            "centre plane: its mirror would be on this side")
+
+
+#: the wheel load at rest of ``axle.vehicle.axle_mass_kg`` may differ from the design wheel
+#: load by this factor either way (the static-load analysis may be at another payload);
+#: beyond it, it is a slip (a total mass, a load in N, a mass of the other axle)
+AXLE_MASS_TOLERANCE = 2.0
+
+
+def check_axle_mass(spec: AxleSpec, design_wheel_load_N: float, fail) -> None:
+    """The mass ``axle.vehicle.axle_mass_kg`` gives this axle agrees with the design wheel
+    load (within :data:`AXLE_MASS_TOLERANCE`)."""
+    v = spec.vehicle
+    if v is None or v.axle_mass_kg is None:
+        return
+    mass = getattr(v.axle_mass_kg, v.position)
+    at_rest = mass * 9.80665 / 2.0
+    ratio = at_rest / design_wheel_load_N
+    if not 1.0 / AXLE_MASS_TOLERANCE <= ratio <= AXLE_MASS_TOLERANCE:
+        expected = 2.0 * design_wheel_load_N / 9.80665
+        raise fail(f"axle.vehicle.axle_mass_kg.{v.position}",
+                   f"{mass:g} kg puts {at_rest:.0f} N on each wheel at rest, {ratio:.2f} times "
+                   f"design.wheel_load_N ({design_wheel_load_N:g} N): expected the mass this "
+                   f"({v.position}) axle carries, about {expected:.0f} kg for that design load")

@@ -14,6 +14,7 @@ import numpy as np
 from elastokin.config.axle import (
     CENTRE_PLANE_TOLERANCE_MM,
     MIRROR,
+    check_axle_mass,
     check_both_sides,
     check_mirror_plane,
     check_names,
@@ -135,6 +136,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     check_mirror_plane(corner, spec, resolver.fail)
     check_both_sides(corner, spec, resolver.fail)
     check_other_side_plane(corner, spec, resolver.fail)
+    check_axle_mass(spec, resolver.spec.design.wheel_load_N, resolver.fail)
     mirrored = MirroredResolver(resolver, corner)
     other = mirrored.corner()
     check_track(corner, other, resolver.fail)

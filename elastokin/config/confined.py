@@ -13,16 +13,19 @@ typed: it is not named by a file.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError, ElastokinError
 
-__all__ = ["Roots", "config_roots", "confined_path", "data_file", "data_folder", "resolved"]
+__all__ = ["Roots", "config_roots", "confined_path", "data_file", "data_folder", "data_folders",
+           "resolved"]
 
 
 def resolved(path: str | Path) -> Path:
@@ -58,13 +61,13 @@ class Roots:
 
 def confined_path(named: str | Path, base: str | Path, roots: Roots, where: str,
                   what: str = "path", error: type[ElastokinError] = ConfigError,
-                  written: str | None = None) -> Path:
+                  written: str | None = None, remedy: str = "copy the file into them") -> Path:
     """The path ``named`` in an input file (relative to the folder ``base``, or absolute) as
     ``base / named``, when it leads (resolved) inside ``roots``; otherwise ``error`` naming
     ``where`` (the file and line or key that names it), ``what`` it is, the path as written
-    (``written``, default ``named``) and where it leads. An existing path that is neither a
-    file nor a folder (a FIFO, a device) is refused too: reading it could block or never
-    end."""
+    (``written``, default ``named``), where it leads and the ``remedy``. An existing path that
+    is neither a file nor a folder (a FIFO, a device) is refused too: reading it could block or
+    never end."""
     path = Path(base) / named
     target = resolved(path)
     shown = str(named) if written is None else written
@@ -72,7 +75,7 @@ def confined_path(named: str | Path, base: str | Path, roots: Roots, where: str,
         inside = ", ".join(str(f) for f in roots.folders)
         raise error(f"{where}: {what} {shown!r} leads to {target}, outside {roots.what} "
                     f"({inside}); elastokin reads no file outside the folders it was given "
-                    "(README, 'Which paths may point anywhere'): copy the file into them")
+                    f"(README, 'Which paths may point anywhere'): {remedy}")
     try:
         mode = os.stat(target).st_mode
     except OSError:
@@ -87,14 +90,33 @@ def confined_path(named: str | Path, base: str | Path, roots: Roots, where: str,
 # A config's data: the CMM files (measurements) and the K&C test files (kc_test)
 
 
+#: the folders typed with ``--data`` for the command running (:func:`data_folders`)
+_TYPED: ContextVar[tuple[Path, ...]] = ContextVar("elastokin_data_folders", default=())
+
+#: what to do about a config's data outside its folders
+DATA_REMEDY = ("copy it beside the config, or give its folder with --data FOLDER (in Python: "
+               "elastokin.data_folders) if you trust the config")
+
+
+@contextlib.contextmanager
+def data_folders(folders: Iterable[str | Path]) -> Iterator[None]:
+    """Inside this block, a config's data may also lie in ``folders`` (typed by the user:
+    ``--data``), besides the config's own folder."""
+    token = _TYPED.set(tuple(resolved(f) for f in folders))
+    try:
+        yield
+    finally:
+        _TYPED.reset(token)
+
+
 def config_roots(s: Suspension, folders: Iterable[str | Path] = ()) -> Roots:
-    """Where a config's data may lie: the config's folder, the working folder (where the
-    command runs: configs written by ``identify`` or ``import-adams`` into a results folder
-    name the data beside the original config) and ``folders`` typed on the command line."""
-    typed = tuple(folders)
-    return Roots.of((Path(s.source).parent, Path.cwd(), *typed),
-                    "the config's folder, the working folder"
-                    + (" and the folder given" if typed else ""))
+    """Where a config's data may lie: the config's folder, the folders typed with ``--data``
+    (:func:`data_folders`) and ``folders`` typed on the command line (e.g. ``synthesize
+    --out``). Not the working folder: a config from someone else, run from the home folder,
+    must not reach into it."""
+    typed = (*_TYPED.get(), *folders)
+    return Roots.of((Path(s.source).parent, *typed),
+                    "the config's folder" + (" and the folders given" if typed else ""))
 
 
 def data_folder(s: Suspension, section: str) -> Path:
@@ -102,7 +124,7 @@ def data_folder(s: Suspension, section: str) -> Path:
     config), confined to :func:`config_roots`."""
     spec = getattr(s, section)
     return confined_path(spec.folder, Path(s.source).parent, config_roots(s),
-                         f"{s.source}: key '{section}.folder'", "folder")
+                         f"{s.source}: key '{section}.folder'", "folder", remedy=DATA_REMEDY)
 
 
 def data_file(s: Suspension, section: str, name: str, key: str,
@@ -113,4 +135,4 @@ def data_file(s: Suspension, section: str, name: str, key: str,
     typed = () if folder is None else (folder,)
     base = data_folder(s, section) if folder is None else Path(folder)
     return confined_path(name, base, config_roots(s, typed), f"{s.source}: key '{key}'",
-                         "file")
+                         "file", remedy=DATA_REMEDY)

@@ -38,6 +38,8 @@ RANGES = {
                                   (("metres", 1000.0), ("centimetres", 10.0))),
     "limit_mm": Plausible(5.0, 500.0, "mm", LENGTH_SLIPS[:2]),
     "rate_Nmm_per_deg": Plausible(100.0, 1e8, "N*mm/deg", (("N*m/deg", 1000.0),)),
+    # the mass one axle carries (the static-load analysis)
+    "axle_mass_kg": Plausible(20.0, 30_000.0, "kg", (("N", 1.0 / 9.80665), ("tonnes", 1000.0))),
 }
 
 

@@ -168,31 +168,36 @@ class Resolver:
         a = self.spec.axle
         return a is not None and joins_sides(parts, self.spec.side, self.spec.parts, a.shared)
 
+    def attempt(self, make):
+        """``make()``: an item resolved, its error raised (a tolerant resolver,
+        :class:`elastokin.config.draft.TolerantResolver`, records it and returns None)."""
+        return make()
+
     def corner(self) -> CornerItems:
         """The corner's joints, links, bushings, springs, stops, dampers and wheel."""
         joints, links, bushings = self.connections()
         return CornerItems(joints, links, bushings, tuple(self.springs()), tuple(self.stops()),
-                           self.wheel(), tuple(self.dampers()))
+                           self.attempt(self.wheel), tuple(self.dampers()))
 
     def connections(self) -> tuple[tuple[Joint, ...], tuple[Link, ...], tuple[Bushing, ...]]:
         """The joints, links and bushings of :meth:`keep`'s connections."""
-        s = self.spec
-        joints, links, bushings = [], [], []
-        for name, c in s.connections.items():
-            key = f"connections.{name}"
-            if not self.keep(name, c.parts):
-                continue
-            parts = self.parts(c.parts, key)
-            if isinstance(c, LinkSpec):
-                pts = self.point_pair(c.at, key + ".at", "a link needs two distinct points")
-                links.append(Link(self.name(name), parts, pts))
-                continue
-            pos = self.point(c.at, key + ".at")
-            if isinstance(c, BushingSpec):
-                bushings.append(self.bushing(self.name(name), c, parts, pos, key))
-                continue
-            joints.append(self.joint(name, c, parts, pos, key))
-        return tuple(joints), tuple(links), tuple(bushings)
+        items = [self.attempt(lambda n=name, c=c: self.connection(n, c))
+                 for name, c in self.spec.connections.items() if self.keep(name, c.parts)]
+        return (tuple(i for i in items if isinstance(i, Joint)),
+                tuple(i for i in items if isinstance(i, Link)),
+                tuple(i for i in items if isinstance(i, Bushing)))
+
+    def connection(self, name: str, c) -> Joint | Link | Bushing:
+        """One connection of the config (``connections.<name>``) resolved."""
+        key = f"connections.{name}"
+        parts = self.parts(c.parts, key)
+        if isinstance(c, LinkSpec):
+            pts = self.point_pair(c.at, key + ".at", "a link needs two distinct points")
+            return Link(self.name(name), parts, pts)
+        pos = self.point(c.at, key + ".at")
+        if isinstance(c, BushingSpec):
+            return self.bushing(self.name(name), c, parts, pos, key)
+        return self.joint(name, c, parts, pos, key)
 
     def joint(self, name: str, c, parts, pos, key: str) -> Joint:
         kind = c.type
@@ -249,47 +254,45 @@ class Resolver:
         return res
 
     def springs(self) -> list[Spring]:
-        springs = []
-        for name, sp in self.spec.springs.items():
-            key = f"springs.{name}"
-            if not self.keep(name, sp.parts):
-                continue
-            parts = self.parts(sp.parts, key)
-            seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
-            springs.append(Spring(self.name(name), parts, seats, sp.rate_N_per_mm,
-                                  sp.preload_N, sp.free_length_mm))
-        return springs
+        springs = [self.attempt(lambda n=name, sp=sp: self.spring(n, sp))
+                   for name, sp in self.spec.springs.items() if self.keep(name, sp.parts)]
+        return [sp for sp in springs if sp is not None]
+
+    def spring(self, name: str, sp) -> Spring:
+        key = f"springs.{name}"
+        parts = self.parts(sp.parts, key)
+        seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
+        return Spring(self.name(name), parts, seats, sp.rate_N_per_mm, sp.preload_N,
+                      sp.free_length_mm)
 
     def dampers(self) -> list[Damper]:
-        out = []
-        for name, dm in self.spec.dampers.items():
-            key = f"dampers.{name}"
-            if not self.keep(name, dm.parts):
-                continue
-            parts = self.parts(dm.parts, key)
-            pts = self.point_pair(dm.points, key + ".points",
-                                  "the two points of a damper coincide")
-            out.append(Damper(self.name(name), parts, pts, dm.rate_N_s_per_mm))
-        return out
+        dampers = [self.attempt(lambda n=name, dm=dm: self.damper(n, dm))
+                   for name, dm in self.spec.dampers.items() if self.keep(name, dm.parts)]
+        return [dm for dm in dampers if dm is not None]
+
+    def damper(self, name: str, dm) -> Damper:
+        key = f"dampers.{name}"
+        parts = self.parts(dm.parts, key)
+        pts = self.point_pair(dm.points, key + ".points", "the two points of a damper coincide")
+        return Damper(self.name(name), parts, pts, dm.rate_N_s_per_mm)
 
     def stops(self) -> list[Stop]:
-        stops = []
-        for name, st in self.spec.stops.items():
-            key = f"stops.{name}"
-            if not self.keep(name, st.parts):
-                continue
-            parts = self.parts(st.parts, key)
-            pts = self.point_pair(st.points, key + ".points",
-                                  "the two points of a stop coincide")
-            if st.type == "bump" and st.clearance_mm >= np.linalg.norm(pts[1] - pts[0]):
-                raise self.fail(key + ".clearance_mm", "a bump stop's clearance must be less "
-                                "than the distance of its points")
-            try:
-                law = law_from_spec(st.curve)
-            except ValueError as exc:
-                raise self.fail(key + ".curve", str(exc)) from None
-            stops.append(Stop(self.name(name), st.type, parts, pts, st.clearance_mm, law))
-        return stops
+        stops = [self.attempt(lambda n=name, st=st: self.stop(n, st))
+                 for name, st in self.spec.stops.items() if self.keep(name, st.parts)]
+        return [st for st in stops if st is not None]
+
+    def stop(self, name: str, st) -> Stop:
+        key = f"stops.{name}"
+        parts = self.parts(st.parts, key)
+        pts = self.point_pair(st.points, key + ".points", "the two points of a stop coincide")
+        if st.type == "bump" and st.clearance_mm >= np.linalg.norm(pts[1] - pts[0]):
+            raise self.fail(key + ".clearance_mm", "a bump stop's clearance must be less "
+                            "than the distance of its points")
+        try:
+            law = law_from_spec(st.curve)
+        except ValueError as exc:
+            raise self.fail(key + ".curve", str(exc)) from None
+        return Stop(self.name(name), st.type, parts, pts, st.clearance_mm, law)
 
     def check_label(self) -> None:
         """The model's ``label`` is not that of another model of a K&C run."""

@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
-from elastokin.config.plausibility import fraction, plausible
+from elastokin.config.plausibility import fraction, implausible, plausible
 from elastokin.config.schema_base import AxisSpec, CurveSpec, Point3, PointSpec, StrictModel
 
 
@@ -110,10 +110,28 @@ class AntiRollBarSpec(StrictModel):
         return self
 
 
+class AxleMassesSpec(StrictModel):
+    """The masses the front and the rear axle carry at rest (kg; their sum is the vehicle's
+    mass in the static-load analysis), as the suspensions carry them: without the unsprung
+    masses when the design wheel load leaves them out; each within its plausible range."""
+
+    front: float
+    rear: float
+
+    @field_validator("front", "rear")
+    @classmethod
+    def _plausible(cls, v: float) -> float:
+        problem = implausible("axle_mass_kg", v)
+        if problem:
+            raise ValueError(problem)
+        return v
+
+
 class VehicleSpec(StrictModel):
     """Vehicle data for the axle's characteristics (anti-dive, anti-lift, anti-squat,
-    Ackermann, turn diameter), each within its plausible range
-    (:mod:`elastokin.config.plausibility`)."""
+    Ackermann, turn diameter) and the static-load analysis from vehicle accelerations
+    (``axle_mass_kg``, ``lateral_transfer_fraction``: the rig's ``vehicle_loads``), each
+    within its plausible range (:mod:`elastokin.config.plausibility`)."""
 
     position: Literal["front", "rear"] = "front"
     wheelbase_mm: float = Field(gt=0)
@@ -129,10 +147,17 @@ class VehicleSpec(StrictModel):
     #: (propeller-shaft turns per wheel turn); the axle housing reacts the pinion torque,
     #: which adds -/+ T/track to the wheel loads in anti-squat and traction anti-lift
     live_axle_ratio: float | None = Field(default=None, gt=0)
+    #: the masses the axles carry at rest (kg): the static-load analysis
+    axle_mass_kg: AxleMassesSpec | None = None
+    #: this axle's share of the lateral load transfer (roll stiffness distribution), 0 ... 1
+    #: (None: its share of the mass)
+    lateral_transfer_fraction: float | None = Field(default=None, ge=0)
 
     # values outside a plausible range are refused with the likely unit slip named
     _plausible = field_validator("wheelbase_mm", "cg_height_mm")(plausible)
     _fractions = field_validator("brake_fraction", "drive_fraction")(fraction)
+    _transfer = field_validator("lateral_transfer_fraction")(
+        lambda v: None if v is None else fraction(v))
 
 
 class AxleSpec(StrictModel):

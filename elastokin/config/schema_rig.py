@@ -4,9 +4,10 @@ vehicle axes, forces and torques the rig applies to the tyre."""
 
 from __future__ import annotations
 
+import re
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
 from elastokin.config.schema_base import StrictModel, Vector3
@@ -127,6 +128,45 @@ class StaticLoadSpec(StrictModel):
     steps: int = Field(default=10, ge=1, le=bounds.MAX_STEPS_PER_LOAD_CASE)
 
 
+class VehicleLoadCaseSpec(StrictModel):
+    """One static-load case from steady vehicle accelerations (g): ``longitudinal_g`` +
+    forward (traction; braking -), ``lateral_g`` + to the left (a left turn), ``bump_g``
+    vertical beyond gravity (+ up: 1 doubles the wheel loads)."""
+
+    longitudinal_g: float = Field(default=0.0, ge=-5.0, le=5.0)
+    lateral_g: float = Field(default=0.0, ge=-5.0, le=5.0)
+    bump_g: float = Field(default=0.0, ge=-1.0, le=10.0)
+
+
+#: the static-load cases run when ``vehicle_loads`` names none (ADAMS/Car's usual set)
+DEFAULT_VEHICLE_LOAD_CASES = {
+    "bump_1g": VehicleLoadCaseSpec(bump_g=1.0),
+    "braking_1g": VehicleLoadCaseSpec(longitudinal_g=-1.0),
+    "traction_0.5g": VehicleLoadCaseSpec(longitudinal_g=0.5),
+    "cornering_left_1g": VehicleLoadCaseSpec(lateral_g=1.0),
+    "cornering_right_1g": VehicleLoadCaseSpec(lateral_g=-1.0),
+    "braking_cornering_left": VehicleLoadCaseSpec(longitudinal_g=-0.7, lateral_g=0.7),
+}
+
+
+class VehicleLoadsSpec(StrictModel):
+    """The static-load analysis from vehicle accelerations (axle with ``axle.vehicle`` and its
+    ``axle_mass_kg``): each case ramped from the design wheel loads to its contact-patch
+    forces in ``steps`` equal steps (load case ``vehicle_loads:<name>``)."""
+
+    cases: dict[str, VehicleLoadCaseSpec] = Field(
+        default_factory=lambda: dict(DEFAULT_VEHICLE_LOAD_CASES), min_length=1)
+    steps: int = Field(default=10, ge=1, le=bounds.MAX_STEPS_PER_LOAD_CASE)
+
+    @field_validator("cases")
+    @classmethod
+    def _names(cls, cases: dict) -> dict:
+        for name in cases:
+            if not re.fullmatch(r"[A-Za-z0-9_.+-]+", name):
+                raise ValueError(f"case name '{name}': use letters, digits and _ . + - only")
+        return cases
+
+
 class RigSpec(StrictModel):
     """The load cases of the virtual K&C rig (defaults: the reference paper's for a corner and
     ADAMS/Car's suspension analyses for an axle; ``null`` leaves a case out; axle cases are
@@ -144,3 +184,4 @@ class RigSpec(StrictModel):
     steering: SteeringSweepSpec | None = SteeringSweepSpec()
     static_load: StaticLoadSpec | None = None
     lateral_force_anti_phase: ForceSweepSpec | None = ForceSweepSpec()
+    vehicle_loads: VehicleLoadsSpec | None = None

@@ -119,5 +119,6 @@ def add_steering_lock(model, steering) -> str:
     # a lock: active from the start, so that every constraint count sees the rack held
     model.add_support(STEERING_LOCK, steering.part, steering.position_mm, (0, 0, 1, 0, 0, 0),
                       frame=frame_from_z(steering.axis),
-                      lock=np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0]))
+                      lock=np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0]),
+                      item=("steering_gear", "steering_gear"))
     return STEERING_LOCK

@@ -26,7 +26,6 @@ attachments' paths.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from exudyn.itemInterface import (
@@ -57,42 +56,14 @@ from elastokin.mbs.axle_elements import (
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
+from elastokin.mbs.loads import LoadRecorder
+from elastokin.mbs.options import NO_LOADS, ModelOptions
 from elastokin.physics.states import PartPoses
 
-__all__ = ["DEG", "EXUDYN_VERSION", "ModelOptions", "SuspensionModel"]
+__all__ = ["DEG", "EXUDYN_VERSION", "NO_LOADS", "ModelOptions", "SuspensionModel"]
 
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
-
-
-@dataclass(frozen=True)
-class ModelOptions:
-    """How a suspension is turned into an Exudyn model.
-
-    stiffness_scale: every bushing law's load multiplied by this factor.
-    user_functions: how bushing laws and input paths are evaluated: ``"symbolic"`` (Exudyn
-        symbolic functions at C++ speed; linear bushings use Exudyn's own stiffness matrix) or
-        ``"python"`` (Python callbacks: the straightforward, slow reference).
-    part_poses: record every part's pose at every step (needed for the steering-axis
-        columns); off, only the wheel part's pose is recorded (the stiffness fit).
-    parametric_bushings: bushings whose laws (scale and cubic per direction, the
-        :class:`~elastokin.physics.laws.ProgressiveLaw` family on the config's laws) can be
-        changed after building, with :meth:`SuspensionModel.set_bushing_laws` (the stiffness
-        fit and its sensitivities, :mod:`elastokin.mbs.sensitivity`).
-    """
-
-    stiffness_scale: float = 1.0
-    user_functions: str = "symbolic"
-    part_poses: bool = True
-    parametric_bushings: tuple[str, ...] = ()
-
-    def __post_init__(self):
-        if self.user_functions not in ("symbolic", "python"):
-            raise ModelError(f"ModelOptions.user_functions must be 'symbolic' or 'python', "
-                             f"got '{self.user_functions}'")
-        if not self.stiffness_scale > 0:
-            raise ModelError(f"ModelOptions.stiffness_scale must be positive, got "
-                             f"{self.stiffness_scale}")
 
 
 class SuspensionModel:
@@ -142,7 +113,12 @@ class SuspensionModel:
         self.loads: dict[str, dict] = {}
         self.sensors: dict[str, int] = {}
         self.point_sensors: dict[str, tuple[str, np.ndarray]] = {}  # part, local position
+        #: the reported load (item, kind) of attachments and of objects added outside the
+        #: config, by their name (:mod:`elastokin.mbs.loads`; default: their own name)
+        self.load_items: dict[str, tuple[str, str]] = {}
         self._build()
+        #: records every element's load (ModelOptions.record_loads), sensors added per solve
+        self.load_recorder = LoadRecorder(self) if options.loads else None
 
     # ------------------------------------------------------------------ building
     @property
@@ -252,6 +228,8 @@ class SuspensionModel:
             referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
             nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
         self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
+        if self.options.loads:  # the rig's loads on the parts are reported where they act
+            self._add_pose_sensors(name, self.rig_bodies[name])
         return self.add_support(name, name, ref, held, lock=np.zeros(6))
 
     def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
@@ -325,22 +303,30 @@ class SuspensionModel:
         recorded = self.body if self.options.part_poses else {
             part: self.body[part] for part in self.wheel_parts.values()}
         for name, number in recorded.items():
-            for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
-                self.sensors[f"part:{name}:{key}"] = mbs.AddSensor(SensorBody(
-                    bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
-                    storeInternal=True, writeToFile=False))
+            self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+
+    def _add_pose_sensors(self, name: str, number: int) -> None:
+        """Record a body's rotation matrix and displacement at every step
+        (``part:<name>:R``, ``part:<name>:disp``)."""
+        ovt = exu.OutputVariableType
+        for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Displacement)):
+            self.sensors[f"part:{name}:{key}"] = self.mbs.AddSensor(SensorBody(
+                bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
+                storeInternal=True, writeToFile=False))
 
     # ------------------------------------------------------------------ attachments
     def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
-                    frame=None, base: str | None = None, lock=None) -> str:
+                    frame=None, base: str | None = None, lock=None,
+                    item: tuple[str, str] | None = None) -> str:
         """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
         against ``base``, another part or a rig body) in the ``constrained`` directions (6
         flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
         frame; default the config frame), following an offset path given when solving;
         inactive in a solve that gives it no path, unless ``lock`` (6 offsets) makes it one of
         :attr:`locks`: active from the start, at ``lock`` unless a path is given. Its reaction
-        is recorded. Returns ``name``."""
+        is recorded. ``item``: (name, kind) of the reported load it belongs to
+        (:mod:`elastokin.mbs.loads`; default the support's own name). Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         point = np.asarray(point_mm, float)
@@ -357,6 +343,8 @@ class SuspensionModel:
         if lock is not None:
             self.locks[name] = np.asarray(lock, float)
         self.supports[name] = {"object": obj, "part": part, "marker": m_part}
+        if item is not None:
+            self.load_items[name] = item
         self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
             objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
             storeInternal=True, writeToFile=False))
@@ -364,20 +352,22 @@ class SuspensionModel:
         return name
 
     def add_load(self, name: str, part: str, point_mm, kind: str = "force",
-                 marker_of: str | None = None) -> str:
+                 marker_of: str | None = None, item: tuple[str, str] | None = None) -> str:
         """A force (N) or torque (N*mm) on ``part`` at ``point_mm`` (config frame, design
         position; ``kind`` "force" or "torque"), following a path given when solving (zero
         without one). ``marker_of``: apply it at the marker of that support or load
-        instead of a new one. Returns ``name``."""
+        instead of a new one. ``item``: as :meth:`add_support`'s. Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
         if marker_of is not None:
             marker = {**self.supports, **self.loads}[marker_of]["marker"]
         else:
             marker = self.rigid_marker(part, np.asarray(point_mm, float), np.eye(3))
-        item = LoadForceVector if kind == "force" else LoadTorqueVector
-        load = self.mbs.AddLoad(item(markerNumber=marker, loadVector=[0, 0, 0]))
+        kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
+        load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
         self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
+        if item is not None:
+            self.load_items[name] = item
         return name
 
     def add_point_sensor(self, name: str, part: str, point_mm) -> str:

@@ -115,6 +115,8 @@ def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: s
         n += 1
     ts = np.linspace(0.0, 1.0, n + 1)
     applied = _set_paths(model, inputs, ts, n)
+    if model.load_recorder is not None:
+        model.load_recorder.update()  # sensors of attachments added since the last solve
     rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
     states = [_state(model, row, {k: v[i] for k, v in applied.items()})
               for i, row in enumerate(rows)]
@@ -217,6 +219,9 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             break
         rows.append(hit[-1])
     idx = np.asarray(rows, int)
+    loads = None
+    if model.load_recorder is not None and idx.size:  # from the sensors as stored
+        loads = model.load_recorder.tables(data, idx)
     for name in model.bushings:  # bushing deflection: mm and deg in one 6-vector
         data[f"bushing:{name}:u"] = np.concatenate(
             [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / DEG],
@@ -225,8 +230,11 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
             [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
             axis=1)
     picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
-              for k, v in data.items()}
-    return [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
+              for k, v in data.items() if not k.startswith("load:")}
+    rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
+    for i, row in enumerate(rows):
+        row["loads"] = None if loads is None else loads.step(i)
+    return rows
 
 
 def _state(model: SuspensionModel, row: dict[str, np.ndarray],
@@ -255,4 +263,5 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
-    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars)
+    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
+                      loads=row["loads"])

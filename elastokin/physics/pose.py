@@ -108,7 +108,9 @@ class MarkMatch:
 
     order[i]: index of the measured point matching local mark i (None for a dropped mark);
     dropped_mark: the local mark left out (None when all 4 matched);
-    R, t: part pose, local -> measurement frame; residual_rms_mm: fit residual.
+    R, t: part pose, local -> measurement frame; residual_rms_mm: fit residual;
+    local_mm: the 4 local marks (part frame); measured_mm: the assembled point matched to each
+    (measurement frame; NaN for the dropped mark).
     """
 
     order: list[int | None]
@@ -117,6 +119,8 @@ class MarkMatch:
     t: np.ndarray
     residual_rms_mm: float
     warnings: list[str] = field(default_factory=list)
+    local_mm: np.ndarray | None = None
+    measured_mm: np.ndarray | None = None
 
 
 def _passing(local: np.ndarray, measured: np.ndarray, marks: tuple[int, ...], eps: float):
@@ -185,7 +189,8 @@ def match_marks(local_marks, measured, eps_mm: float = DEFAULT_EPS_MM,
         order[m] = int(k)
     if rms > eps_mm:
         warnings.append(f"part '{part}': pose residual {rms:.3f} mm exceeds eps {eps_mm:g} mm")
-    return MarkMatch(order, dropped, R, t, rms, warnings)
+    matched = np.array([q[k] if k is not None else np.full(3, np.nan) for k in order])
+    return MarkMatch(order, dropped, R, t, rms, warnings, local, matched)
 
 
 def zero_torsion_frame(housing_axis, v2_in_part1) -> np.ndarray:

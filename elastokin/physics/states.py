@@ -35,6 +35,85 @@ class PartPoses:
         return T
 
 
+@dataclass(frozen=True)
+class LoadItem:
+    """An element of a model whose load is reported (:mod:`elastokin.physics.loads`): a
+    connection, spring, stop, the anti-roll bar, the steering gear, a wheel's contact patch.
+    The load acts on ``parts[0]``, its reaction on ``parts[1]``; ``kind`` says what it is
+    (``joint``, ``rack``, ``bushing``, ``link``, ``spring``, ``stop``, ``anti_roll_bar``,
+    ``steering_gear``, ``contact_patch``, ``idle_spin``, ``support``, ``load``);
+    ``two_point``: a force along the line between its two points, no moment (a link, a
+    spring, a stop); ``moments``: it may transmit a moment (not a ball joint)."""
+
+    name: str
+    kind: str
+    parts: tuple[str, str]
+    two_point: bool = False
+    moments: bool = True
+
+
+@dataclass
+class LoadTable:
+    """The loads of ``items`` at one or more steps: ``values`` (..., items, 7, 3), the
+    quantities :data:`elastokin.physics.loads.QUANTITIES` of each item (config frame; N, N*mm,
+    mm); ``ground``: the model's ground part."""
+
+    items: tuple[LoadItem, ...]
+    values: np.ndarray
+    ground: str = ""  # the model's ground part (body, subframe, rig frame)
+
+    def step(self, i: int) -> LoadTable:
+        """The table of step ``i`` (values (items, 7, 3))."""
+        return LoadTable(self.items, self.values[i], self.ground)
+
+    @classmethod
+    def stack(cls, tables: list[LoadTable]) -> LoadTable:
+        """The steps of one solve (the same items) as one table (values (n, items, 7, 3))."""
+        return cls(tables[0].items, np.stack([t.values for t in tables]), tables[0].ground)
+
+    def names(self) -> list[str]:
+        return [item.name for item in self.items]
+
+
+@dataclass
+class PoseSeries:
+    """The poses of the moving parts at every step of a sweep (config frame): ``rotation``
+    (steps, 3, 3) from the design position and ``displacement_mm`` (steps, 3) of each part's
+    reference point ``reference_mm`` (3,) (design position), as :class:`PartPoses` per step."""
+
+    rotation: dict[str, np.ndarray] = field(default_factory=dict)
+    displacement_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @classmethod
+    def stack(cls, poses: list[PartPoses]) -> PoseSeries:
+        """The series of one :class:`PartPoses` per step (the first step's parts)."""
+        names = list(poses[0].rotation) if poses else []
+        return cls({n: np.array([p.rotation[n] for p in poses]) for n in names},
+                   {n: np.array([p.displacement_mm[n] for p in poses]) for n in names},
+                   {n: np.asarray(poses[0].reference_mm[n], float) for n in names})
+
+    @property
+    def steps(self) -> int:
+        return len(next(iter(self.rotation.values()))) if self.rotation else 0
+
+    def at(self, step: int) -> PartPoses:
+        """The poses at one step."""
+        return PartPoses({n: r[step] for n, r in self.rotation.items()},
+                         {n: d[step] for n, d in self.displacement_mm.items()},
+                         dict(self.reference_mm))
+
+    def transforms(self, part: str, steps) -> tuple[np.ndarray, np.ndarray]:
+        """(R (k, 3, 3), t (k, 3)) of ``part`` at ``steps`` (indices) with x_now = R x + t for
+        a point x at the design position; the identity for the ground and unknown parts."""
+        steps = np.asarray(steps, int)
+        if part not in self.rotation:
+            return np.broadcast_to(np.eye(3), (steps.size, 3, 3)), np.zeros((steps.size, 3))
+        R = self.rotation[part][steps]
+        ref = self.reference_mm[part]
+        return R, ref + self.displacement_mm[part][steps] - R @ ref
+
+
 @dataclass
 class StateSensitivity:
     """Derivatives of one solved step with respect to n parameters (config frame): of each
@@ -58,6 +137,7 @@ class ModelState:
     attached to the model at this step (N or N*mm, config frame). ``points``: the position of
     each point sensor (mm, config frame). ``sensitivity``: derivatives with respect to model
     parameters, when the step was solved with them (:mod:`elastokin.mbs.sensitivity`).
+    ``loads``: the load every element transmits (:mod:`elastokin.mbs.loads`).
     """
 
     poses: PartPoses
@@ -71,6 +151,8 @@ class ModelState:
     #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``,
     #: ``spring_length:<name>``, ``damper_length:<name>`` (mm)
     scalars: dict[str, float] = field(default_factory=dict)
+    #: the load of every element (None: not recorded, ``ModelOptions.record_loads``)
+    loads: LoadTable | None = None
 
 
 @dataclass
@@ -82,7 +164,8 @@ class StepState:
     ``poses``: every moving part's pose, or None when the model records the wheel part only.
     ``sensitivity``: when solved with parameter sensitivities, the derivatives of
     ``wheel_centre_mm``, ``contact_patch_mm`` and ``spin_axis`` ((3, n) each, per unit of the
-    n parameters).
+    n parameters). ``loads``: every element's load (the whole model's, the same for each
+    wheel; None: not recorded).
     """
 
     wheel_centre_mm: np.ndarray
@@ -96,3 +179,4 @@ class StepState:
     poses: PartPoses | None = None
     sensitivity: dict[str, np.ndarray] | None = None
     scalars: dict[str, float] = field(default_factory=dict)  # see ModelState.scalars
+    loads: LoadTable | None = None  # the whole model's, see ModelState.loads

@@ -34,7 +34,9 @@ LAYOUTS = {1: ((7.0, 5.6), {"left": 0.155, "right": 0.975, "bottom": 0.11, "top"
            2: ((7.0, 6.6), {"left": 0.155, "right": 0.975, "bottom": 0.1, "top": 0.945,
                             "hspace": 0.07, "height_ratios": (3, 1)}),
            "pair": ((7.0, 5.0), {"left": 0.115, "right": 0.98, "bottom": 0.125, "top": 0.875,
-                                 "wspace": 0.04})}
+                                 "wspace": 0.04}),
+           # horizontal bars with long labels (the loads chart sets its height per bar)
+           "bars": ((7.0, 8.0), {"left": 0.34, "right": 0.97, "bottom": 0.08, "top": 0.95})}
 #: x position of the y labels (axes fraction): fixed, so that stacked panels align without
 #: measuring their tick labels; the pair's narrower panels need more
 YLABEL_X = -0.115
@@ -81,7 +83,7 @@ class ChartCanvas:
         for a in (ax, axr):
             if a is None:
                 continue
-            for artist in [*a.lines, *a.texts, *a.collections]:
+            for artist in [*a.lines, *a.texts, *a.collections, *a.patches]:
                 artist.remove()
             if a.get_legend() is not None:
                 a.get_legend().remove()
@@ -99,7 +101,7 @@ class ChartCanvas:
         fig = Figure(figsize=size, dpi=DPI)
         FigureCanvasAgg(fig)
         kw = dict(margins)
-        if panels == 1:
+        if panels in (1, "bars"):
             fig.subplots_adjust(**kw)
             axes = (fig.add_subplot(), None)
         elif panels == 2:

@@ -39,6 +39,7 @@ from elastokin.report.chart_canvas import (
     residual_rms,
     save_chart,
 )
+from elastokin.report.load_charts import LOAD_CHART, LoadChartData, draw_load_chart
 from elastokin.rig.channels import ERROR_LIST, LOAD_CASES, channel, display_label, display_unit
 from elastokin.rig.characteristics import steer_amplitude_deg
 from elastokin.rig.comparison import residual_points, static_value
@@ -244,10 +245,13 @@ def _draw_jobs(indices: list[int]) -> list[list[Path]]:
 
 
 def chart_jobs(sweeps: list[Sweep], out_dir: Path, provenance: dict, errors: dict | None,
-               svg: bool, axle: AxleChartInputs | None) -> list[tuple]:
+               svg: bool, axle: AxleChartInputs | None,
+               loads: LoadChartData | None = None) -> list[tuple]:
     """(draw function, chart data, file, provenance, svg) of every chart the sweeps have
     data for: the corner's (:data:`CHART_LIST`; on an axle the config side's wheel), then
-    with ``axle`` the axle's (:data:`~elastokin.report.axle_charts.AXLE_CHART_LIST`)."""
+    with ``axle`` the axle's (:data:`~elastokin.report.axle_charts.AXLE_CHART_LIST`), then
+    with ``loads`` the largest loads per element
+    (:mod:`elastokin.report.load_charts`)."""
     jobs = []
     for spec in CHART_LIST:
         chosen = [sw for sw in sweeps if spec.x in sw.columns and spec.y in sw.columns]
@@ -262,20 +266,24 @@ def chart_jobs(sweeps: list[Sweep], out_dir: Path, provenance: dict, errors: dic
         if data is not None:
             jobs.append((draw_axle_chart, data, out_dir / f"{spec.name}.png", provenance,
                          svg))
+    if loads is not None:
+        jobs.append((draw_load_chart, loads, out_dir / f"{LOAD_CHART}.png", provenance, svg))
     return jobs
 
 
 def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
               errors: dict | None = None, svg: bool = False,
-              axle: AxleChartInputs | None = None) -> list[Path]:
+              axle: AxleChartInputs | None = None,
+              loads: LoadChartData | None = None) -> list[Path]:
     """Every chart of a K&C run whose load case was run (:data:`CHART_LIST`; with ``axle``,
     :func:`~elastokin.report.axle_charts.axle_chart_inputs`, the config side's wheel and the
     axle's charts too), each overlaying all models, as PNG (and SVG with ``svg``);
     ``errors``: summary.json's ``errors`` (model -> metric -> RMS), for the legends of the
-    Fig. 9 charts (other RMS errors are computed from the sweeps, the same way). Where the
-    platform forks (Linux) and has two cores, a forked process draws every other chart while
-    this one draws the rest. Returns the files written, in chart order."""
-    jobs = chart_jobs(sweeps, out_dir, provenance, errors, svg, axle)
+    Fig. 9 charts (other RMS errors are computed from the sweeps, the same way); ``loads``:
+    the largest loads per element (:func:`~elastokin.report.load_charts.load_chart_data`).
+    Where the platform forks (Linux) and has two cores, a forked process draws every other
+    chart while this one draws the rest. Returns the files written, in chart order."""
+    jobs = chart_jobs(sweeps, out_dir, provenance, errors, svg, axle, loads)
     _JOBS[:] = jobs
     try:
         mine, theirs = list(range(0, len(jobs), 2)), list(range(1, len(jobs), 2))

@@ -19,9 +19,12 @@ import numpy as np
 
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import relocated_folder
+from elastokin.report.loads_csv import write_loads_csv
 from elastokin.report.text import identification_table, motion_table
 from elastokin.rig.axle_channels import dependent_axle, design_track_mm
 from elastokin.rig.channels import sign_conventions
+from elastokin.rig.drives import vehicle_load_table
+from elastokin.rig.loads import load_summary
 from elastokin.rig.sweeps import Sweep
 from elastokin.version import __version__, exudyn_version
 
@@ -91,6 +94,8 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         bushings[name] = entry
     s = run.suspension
     models = run.summaries()  # before the warnings: a figure not determined adds one
+    for label, figures in models.items():  # and every element's loads (none: the test)
+        figures.update(load_summary(run.models[label].sweeps))
     return {
         **config_provenance(s),
         "config_name": s.name,
@@ -121,6 +126,7 @@ def summary_dict(run: KCRun, files: list[str]) -> dict:
         **({"motion_identification": motion_summary(run.motion)}
            if run.motion is not None else {}),
         **({"axle": axle_data(s)} if s.axle is not None else {}),
+        **({"vehicle_loads": vehicle_load_table(s)} if s.rig.vehicle_loads else {}),
         "sign_conventions": sign_conventions(),
         "files": files,
     }
@@ -295,17 +301,21 @@ def write_config(path: Path, config: dict, header: str) -> None:
 
 def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     """Every file of a K&C run into ``folder``: kc.csv, identification and stiffness-fit files
-    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json and report.html.
+    (when there are), the charts (PNG; with ``svg`` also SVG), summary.json, report.html and,
+    when loads were recorded, loads.csv and the largest loads' chart (listed last).
     Returns the summary."""
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
     from elastokin.report.html import write_report
+    from elastokin.report.load_charts import LOAD_CHART, load_chart_data
+    from elastokin.report.view3d import run_views, view_fragment
 
     prov = config_provenance(run.suspension)
     sweeps = [sw for m in run.models.values()
               for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
     write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
+    loads = ["loads.csv"] if write_loads_csv(folder / "loads.csv", run.models, prov) else []
     ident = None
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
@@ -317,11 +327,17 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
-    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary))
-    files += [p.name for p in charts] + ["report.html"]
+    charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary),
+                       load_chart_data(summary))
+    load_chart = [p.name for p in charts if p.stem == LOAD_CHART]
+    files += [p.name for p in charts if p.stem != LOAD_CHART] + ["report.html"]
+    files += loads + load_chart
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    write_report(folder / "report.html", summary, charts, ident, motion)
+    views, overlay = run_views(run)
+    view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
+        if views else None
+    write_report(folder / "report.html", summary, charts, ident, motion, view)
     return summary
 
 

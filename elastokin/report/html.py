@@ -16,8 +16,10 @@ from pathlib import Path
 from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
+from elastokin.report.html_loads import loads_section
 from elastokin.report.html_motion import motion_section
 from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.load_charts import LOAD_CHART
 from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
 
@@ -25,12 +27,14 @@ from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, ch
 SECTIONS = (
     ("summary", "Summary"),
     ("warnings", "Warnings"),
+    ("view", "3D view"),
     ("identification", "Geometric identification"),
     ("motion", "Joints from motion"),
     ("static", "Static state"),
     ("characteristics", "K&C characteristics"),
     ("charts", "Charts"),
     ("axle", "Axle"),
+    ("loads", "Loads"),
     ("errors", "Errors against the test"),
     ("stiffness", "Bushing-stiffness identification"),
     ("signs", "Sign conventions"),
@@ -67,6 +71,9 @@ align-items:center;justify-content:center;cursor:zoom-out;z-index:10}
 #lightbox img{max-width:98vw;max-height:96vh;height:96vh;width:auto;object-fit:contain;
 background:#fff}
 code{font-size:92%}
+h4{margin:1em 0 0.3em 0}.wide{overflow-x:auto}
+.worst{font-weight:bold;background:#ffd9a0;padding:0 3px}
+details{margin:0.5em 0}
 """
 
 #: click a chart to see it as large as the window; click or Escape to close
@@ -266,6 +273,24 @@ def charts_section(charts: list[Path], with_test: bool, axle_side: str | None = 
     return out
 
 
+def view_section(fragment: str, factor: float | None) -> list[str]:
+    """The interactive 3D view (:mod:`elastokin.report.view3d`) and how to read it."""
+    ident = (f" The design position also shows the geometric identification: each part's CMM "
+             f"marks (fitted &#9675; and measured &times;, the residual magnified "
+             f"&times;{factor:g}) and each joint's shift from its initial to its identified "
+             f"location (magnified &times;{factor:g})." if factor else "")
+    return [note("Pick a model and a load case; drag the slider or press play. Drag to turn "
+                 "the view, scroll to zoom, or pick a view (3D, front, side, top); click a "
+                 "legend entry to hide it or to overlay another model's outline. One colour "
+                 "per part (its sticks join its points, its hull is shaded); bushings are "
+                 "coloured by their deflection (mm, scale at the bottom left) with their "
+                 "frames (x red, y green, z blue); stops turn red in contact; the steering "
+                 "axes are dashed, the front-view instant centres (+) and the roll centre "
+                 "(&#9670;) are joined to the contact patches. The tyre's width is drawn 0.7 "
+                 "times its loaded radius (a config gives none). Works offline (plotly.js is "
+                 "in the page)." + ident), fragment]
+
+
 def errors_section(summary: dict) -> list[str]:
     errors = summary["errors"]
     labels = list(errors)
@@ -300,6 +325,7 @@ def signs_section(summary: dict) -> list[str]:
     rows += [[f"{esc(channel(c).label)}", esc(CHANNELS[c].sign)] for c in SIGNED]
     rows += [["bushing deflection", esc(signs.get("bushing_*", ""))],
              ["spring force", esc(signs.get("spring_*_force_N", ""))]]
+    rows += [["loads (loads.csv)", esc(v)] for k, v in signs.items() if "loads.csv" in k]
     definitions = [[f"{esc(c.label)} [{c.unit}]", esc(c.definition)]
                    for c in CHARACTERISTIC_LIST]
     return [note("ISO 8855 / SAE J670 names; per wheel for the wheel angles. Every column of "
@@ -349,14 +375,20 @@ def provenance_section(summary: dict) -> list[str]:
 
 # ------------------------------------------------------------------------------ the page
 def report_sections(summary: dict, charts: list[Path], identification: dict | None = None,
-                    motion: dict | None = None) -> list[tuple[str, list[str]]]:
+                    motion: dict | None = None,
+                    view: tuple[str, float | None] | None = None
+                    ) -> list[tuple[str, list[str]]]:
     """(section id, body) of every section that has data, in :data:`SECTIONS` order."""
     with_test = "test" in summary["models"]
     axle_charts = [p for p in charts if p.stem in AXLE_CHARTS]
-    charts = [p for p in charts if p.stem not in AXLE_CHARTS]
+    load_charts = [p for p in charts if p.stem == LOAD_CHART]
+    charts = [p for p in charts if p.stem not in AXLE_CHARTS and p.stem != LOAD_CHART]
     first = 1 + sum(p.suffix == ".png" for p in charts)
+    after_axle = first + sum(p.suffix == ".png" for p in axle_charts)
+    loads = any(m.get("loads") for m in summary["models"].values())
     parts = {"summary": summary_section(summary),
              "warnings": warnings_section(summary) if summary.get("warnings") else None,
+             "view": view_section(*view) if view else None,
              "identification": (identification_section(identification)
                                 if identification else None),
              "motion": motion_section(motion) if motion else None,
@@ -367,6 +399,7 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
                         if charts else None),
              "axle": (axle_section(summary, axle_charts, first) if summary.get("axle")
                       else None),
+             "loads": loads_section(summary, load_charts, after_axle) if loads else None,
              "errors": errors_section(summary) if summary.get("errors") else None,
              "stiffness": (stiffness_section(summary["stiffness_identification"])
                            if summary.get("stiffness_identification") else None),
@@ -376,11 +409,13 @@ def report_sections(summary: dict, charts: list[Path], identification: dict | No
 
 
 def write_report(path: Path, summary: dict, charts: list[Path],
-                 identification: dict | None = None, motion: dict | None = None) -> Path:
-    """Write ``report.html`` from ``summary.json``'s content, the PNG charts and (with
+                 identification: dict | None = None, motion: dict | None = None,
+                 view: tuple[str, float | None] | None = None) -> Path:
+    """Write ``report.html`` from ``summary.json``'s content, the PNG charts, (with
     measurements) ``identification.json``'s and (with a motion plan)
-    ``motion_identification.json``'s content."""
-    sections = report_sections(summary, charts, identification, motion)
+    ``motion_identification.json``'s content, and the 3D view (its HTML fragment and the
+    identification's magnification, :func:`view_section`)."""
+    sections = report_sections(summary, charts, identification, motion, view)
     title = f"K&C report: {summary.get('config_name') or summary['config_file']}"
     head = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta "
             f"name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>"

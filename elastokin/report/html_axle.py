@@ -64,6 +64,10 @@ def make_up_rows(axle: dict) -> list[list[str]]:
     if v.get("live_axle_ratio") is not None:
         rows.append(["live axle: final drive ratio [-]", num(v["live_axle_ratio"], ".4g")
                      + " (the pinion torque enters anti-squat and traction anti-lift)"])
+    masses = v.get("axle_mass_kg")
+    if masses:
+        rows.append(["masses the axles carry at rest, front / rear [kg] (static loads)",
+                     f"{num(masses['front'], '.1f')} / {num(masses['rear'], '.1f')}"])
     return rows
 
 

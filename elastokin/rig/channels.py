@@ -14,8 +14,9 @@ test channel converts (``lateral``: times +1 on a left wheel, -1 on a right one;
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
+
+from elastokin.rig.item_channels import LOAD_FRAMES, LOAD_SIGN, item_channel_fields
 
 #: the quantity of each unit (K&C test files accept other units of the same quantity)
 QUANTITY = {"mm": "length", "deg": "angle", "N": "force", "N*mm": "torque", "-": "fraction"}
@@ -180,71 +181,14 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
-_SPRING = re.compile(r"spring_(.+)_force_N")
-_LENGTH = re.compile(r"(spring|damper)_(.+)_length_mm")
-_RATIO = re.compile(r"(spring|damper)_(.+)_motion_ratio")
-_STOP = re.compile(r"stop_(.+)_force_N")
-_BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
-
-
 def channel(name: str) -> Channel | None:
-    """The channel of a kc.csv column, spring and bushing columns included (None when the
-    column is not elastokin's)."""
+    """The channel of a kc.csv column, the columns named after an item (a spring, damper,
+    stop, bushing, an element's load: :mod:`elastokin.rig.item_channels`) included (None when
+    the column is not elastokin's)."""
     if name in CHANNELS:
         return CHANNELS[name]
-    m = _SPRING.fullmatch(name)
-    if m:
-        return Channel(name, "N", "coil spring force, positive in compression",
-                       f"spring {m.group(1)} force [N] (+ compression)",
-                       adams=f"{m.group(1)}_spring_force")
-    m = _LENGTH.fullmatch(name) or _RATIO.fullmatch(name)
-    if m and name.endswith("_mm"):
-        return Channel(name, "mm", f"{m[1]} length between its points",
-                       f"{m[1]} {m[2]} length [mm]", adams=f"{m[2]}_{m[1]}_length")
-    if m:
-        return Channel(name, "-", f"motion ratio: the {m[1]}'s compression per wheel travel "
-                       "along the travel load case's motion, + when bump compresses it",
-                       f"{m[1]} {m[2]} motion ratio [-]", adams=f"{m[2]}_{m[1]}_motion_ratio")
-    m = _STOP.fullmatch(name)
-    if m:
-        return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
-                       "(bump) or together (rebound); 0 out of contact",
-                       f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
-    m = _BUSHING.fullmatch(name)
-    if m:
-        kind = "rot" if m.group(2) else "disp"
-        return Channel(name, m.group(4), "deflection of the part-2 sleeve relative to part 1, "
-                       "bushing frame (z axial, x main radial), incl. the preload deflection; "
-                       "rotations Tait-Bryan x-y-z",
-                       f"bushing {m.group(1)} {m.group(2)}{m.group(3)} [{m.group(4)}]",
-                       adams=f"bushing_{m.group(1)}_{kind}_{m.group(3)}")
-    return None
-
-
-def bushing_columns(bushing: str) -> list[str]:
-    """kc.csv columns of a bushing's deflection: x y z (mm), rx ry rz (deg)."""
-    units = ("mm", "mm", "mm", "deg", "deg", "deg")
-    return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
-                                                        units)]
-
-
-def spring_column(spring: str) -> str:
-    return f"spring_{spring}_force_N"
-
-
-def stop_column(stop: str) -> str:
-    return f"stop_{stop}_force_N"
-
-
-def length_column(kind: str, name: str) -> str:
-    """kc.csv column of a spring's or damper's (``kind``) length (mm)."""
-    return f"{kind}_{name}_length_mm"
-
-
-def motion_ratio_column(length: str) -> str | None:
-    """The motion-ratio column of a spring's or damper's length column (None: not one)."""
-    m = _LENGTH.fullmatch(length)
-    return None if m is None else f"{m.group(1)}_{m.group(2)}_motion_ratio"
+    fields = item_channel_fields(name)
+    return None if fields is None else Channel(**fields)
 
 
 @dataclass(frozen=True)
@@ -306,8 +250,13 @@ LOAD_CASE_LIST = (
              "lateral force at the contact patch [N] (+ to the vehicle's left)",
              "lateral force at the contact patches in anti-phase", ("toe",), "patch", "left",
              corner=False),
+    LoadCase("vehicle_loads", "load_fraction", "load applied [-]",
+             "static loads from vehicle accelerations (one case each, vehicle_loads:<case>)",
+             ("toe",), corner=False),
 )
 LOAD_CASES: dict[str, LoadCase] = {c.name: c for c in LOAD_CASE_LIST}
+#: the load case of one static-load case from vehicle accelerations (input load_fraction)
+VEHICLE_LOAD_CASE = "vehicle_loads:{}"
 #: the force-controlled load cases at the design wheel load
 FORCE_CASES = tuple(c.name for c in LOAD_CASE_LIST if c.where is not None)
 
@@ -493,5 +442,7 @@ def sign_conventions() -> dict[str, str]:
     out["spring_*_length_mm, damper_*_length_mm"] = channel("spring_s_length_mm").sign
     out["spring_*_motion_ratio, damper_*_motion_ratio"] = channel("spring_s_motion_ratio").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
+    out["<element>_{fx,fy,fz,mx,my,mz}_{body,local}_{N,Nmm} (loads.csv)"] = (
+        f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")
     out.update({c.name: c.definition for c in CHARACTERISTIC_LIST})
     return out

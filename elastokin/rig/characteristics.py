@@ -18,10 +18,8 @@ from elastokin.physics.states import StepState
 from elastokin.physics.steering_geometry import track_change_mm
 from elastokin.physics.wheel import camber_deg, slope, toe_deg, windowed_slope
 from elastokin.rig.axle_channels import iso_rotation
-from elastokin.rig.channels import (
-    CHARACTERISTICS,
-    GRADIENTS,
-    STEERING_AXIS_COLUMNS,
+from elastokin.rig.channels import CHARACTERISTICS, GRADIENTS, STEERING_AXIS_COLUMNS
+from elastokin.rig.item_channels import (
     bushing_columns,
     length_column,
     motion_ratio_column,

@@ -32,21 +32,23 @@ from elastokin.config.schema_rig import (
     SteeringSweepSpec,
     TorqueSweepSpec,
     TravelSpec,
+    VehicleLoadCaseSpec,
     VerticalForceSpec,
 )
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.rig.axle_channels import design_track_mm
-from elastokin.rig.channels import FORCE_CASES, LOAD_CASES
+from elastokin.physics.vehicle_loads import VehicleData, lifted_wheels, wheel_loads
+from elastokin.rig.axle_channels import design_track_mm, iso_rotation
+from elastokin.rig.channels import FORCE_CASES, LOAD_CASES, VEHICLE_LOAD_CASE
 from elastokin.rig.pad import WheelInputs
 from elastokin.rig.paths import leg, sweep_path, travel_path, vertical_force_path
 
 #: the load cases a kinematic model runs (:func:`drives`)
 KINEMATIC_CASES = ("parallel_travel", "vertical_force", "opposite_travel",
-                   "single_wheel_travel", "roll_vertical_force", "steering")
+                   "single_wheel_travel", "roll_vertical_force", "steering", "vehicle_loads")
 #: the axle's load cases, in the order they run (after the corner cases)
 AXLE_CASES = ("opposite_travel", "single_wheel_travel", "roll_vertical_force", "steering",
-              "static_load", "lateral_force_anti_phase")
+              "static_load", "lateral_force_anti_phase", "vehicle_loads")
 
 
 @dataclass(frozen=True)
@@ -187,6 +189,66 @@ def static_load_drive(suspension: Suspension, spec) -> Drive:
     return Drive("static_load", "load_fraction", frac, np.array(["rise"] * n), wheels)
 
 
+def vehicle_data(suspension: Suspension) -> VehicleData:
+    """The vehicle data of the static-load analysis (``axle.vehicle`` with its
+    ``axle_mass_kg``; the design track at the contact points)."""
+    s = _axle(suspension, "vehicle_loads")
+    v = s.axle.vehicle
+    if v is None or v.axle_mass_kg is None:
+        raise ConfigError(f"{s.rig_key('vehicle_loads')}: the static-load analysis needs the "
+                          "vehicle data axle.vehicle with its axle_mass_kg: {front: KG, rear: "
+                          "KG}")
+    return VehicleData(v.axle_mass_kg.front, v.axle_mass_kg.rear, v.position, v.wheelbase_mm,
+                       v.cg_height_mm, design_track_mm(s), v.brake_fraction,
+                       v.drive_fraction, v.lateral_transfer_fraction, v.brakes, v.drive)
+
+
+def vehicle_load_drive(suspension: Suspension, name: str, case: VehicleLoadCaseSpec,
+                       steps: int) -> Drive:
+    """One static-load case from vehicle accelerations (:mod:`elastokin.physics.vehicle_loads`):
+    from the design wheel loads to the case's contact-patch forces (and wheel-centre forces of
+    inboard brakes or drive) in ``steps`` equal steps, force control (``load_fraction`` 0..1;
+    load case ``vehicle_loads:<name>``)."""
+    s = suspension
+    loads = wheel_loads(vehicle_data(s), case.longitudinal_g, case.lateral_g, case.bump_g)
+    lifted = lifted_wheels(loads)
+    if lifted:
+        raise ConfigError(f"{s.rig_key(f'vehicle_loads.cases.{name}')}: the "
+                          f"{' and '.join(lifted)} wheel would lift off (vertical load "
+                          f"{loads[lifted[0]].patch[2]:.0f} N): lower the accelerations")
+    frac = leg(0.0, 1.0, 1.0 / steps)
+    n = frac.size
+    T = iso_rotation(s).T  # ISO vehicle axes -> config frame
+    design = s.up * s.design.wheel_load_N
+    wheels = {}
+    for side, w in loads.items():
+        pad = design + frac[:, None] * (T @ w.patch - design)
+        centre = np.zeros((n, 6))
+        centre[:, :3] = frac[:, None] * (T @ w.centre)
+        wheels[side] = WheelInputs(None, pad, centre)
+    return Drive(VEHICLE_LOAD_CASE.format(name), "load_fraction", frac,
+                 np.array(["rise"] * n), wheels)
+
+
+def vehicle_load_table(suspension: Suspension) -> dict[str, dict]:
+    """summary.json ``vehicle_loads``: each static-load case's accelerations (g) and the
+    forces they put on each tyre (N, config frame), at the contact patch and at the wheel
+    centre (the longitudinal force of inboard brakes or drive)."""
+    s = suspension
+    spec = s.rig.vehicle_loads
+    if spec is None:
+        return {}
+    T = iso_rotation(s).T
+    out = {}
+    for name, case in spec.cases.items():
+        loads = wheel_loads(vehicle_data(s), case.longitudinal_g, case.lateral_g, case.bump_g)
+        out[VEHICLE_LOAD_CASE.format(name)] = {
+            **case.model_dump(),
+            "contact_patch_force_N": {side: (T @ w.patch).tolist() for side, w in loads.items()},
+            "wheel_centre_force_N": {side: (T @ w.centre).tolist() for side, w in loads.items()}}
+    return out
+
+
 def vertical_force_drive(suspension: Suspension,
                          spec: VerticalForceSpec | None = None) -> Drive:
     """Vertical force at every contact patch (force control, patch free): from the design
@@ -252,8 +314,11 @@ def why_not_run(suspension: Suspension, case: str, fitted: bool = False) -> str 
 def check_rig(suspension: Suspension, rig: RigSpec | None = None) -> None:
     """Warn (:class:`RigWarning`) of a load case the rig (default the suspension's) gives
     explicitly that no model of ``suspension`` can run (:func:`why_not_run`): the K&C job
-    leaves it out (:func:`drives` skips it), and says so once."""
+    leaves it out (:func:`drives` skips it), and says so once. Every drive is built (pure,
+    cheap): a case that cannot be built (a wheel lifted by vehicle accelerations) is an error
+    before any solve."""
     rig = rig or suspension.rig
+    drives(suspension, rig)
     for case in sorted(rig.model_fields_set):
         if getattr(rig, case) is None:
             continue
@@ -278,8 +343,8 @@ def drives(suspension: Suspension, rig: RigSpec | None = None,
            kinematic: bool = False) -> list[Drive]:
     """Every load case of ``rig`` (default: the config's), parallel travel first, the axle's
     cases last (on an axle). A kinematic model runs the travel, vertical and steering cases
-    only: without bushings its answer to a lateral or longitudinal load is rigid-body
-    statics, not compliance."""
+    and the static loads from vehicle accelerations only: without bushings its answer to a
+    lateral or longitudinal load is rigid-body statics, not compliance (but loads)."""
     s = suspension
     rig = rig or s.rig
     out = [parallel_travel_drive(s, rig.parallel_travel)]
@@ -301,4 +366,7 @@ def drives(suspension: Suspension, rig: RigSpec | None = None,
         out.append(static_load_drive(s, rig.static_load))
     if not kinematic and rig.lateral_force_anti_phase is not None:
         out.append(force_drive(s, "lateral_force_anti_phase", rig.lateral_force_anti_phase))
+    if rig.vehicle_loads is not None:  # rigid-body statics too: the loads of a kinematic model
+        out += [vehicle_load_drive(s, name, case, rig.vehicle_loads.steps)
+                for name, case in rig.vehicle_loads.cases.items()]
     return out

@@ -25,6 +25,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
+from elastokin.physics.states import LoadTable, PoseSeries
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.channels import LOAD_CASES
@@ -77,6 +78,9 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         cols = {k: v[keep] for k, v in cols.items()}
         own = {k: v[keep] for k, v in own.items()}
     by_side = {side: [st[side] for st in steps] for side in s.sides}
+    first = by_side[s.side]
+    loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
+    poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
     shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
     sweeps = []
     for side in s.sides:
@@ -86,7 +90,8 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         if LOAD_CASES[drive.load_case].input == "wheel_travel_mm":  # the travel cases
             columns.update(motion_ratio_columns(columns))
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
-        sweeps.append(Sweep(label, drive.load_case, columns, tangents, side))
+        sweeps.append(Sweep(label, drive.load_case, columns, tangents, side,
+                            loads=loads if side == s.side else None, poses=poses))
     return sweeps
 
 

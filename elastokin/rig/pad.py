@@ -38,6 +38,12 @@ def names(side: str) -> dict[str, str]:
             "centre": f"rig:wheel_centre:{side}", "patch": f"rig:contact_patch:{side}"}
 
 
+def patch_item(side: str) -> tuple[str, str]:
+    """The reported load (:mod:`elastokin.mbs.loads`) of everything the rig applies to the
+    wheel on ``side`` (pad, patch and wheel-centre loads), reduced to the contact patch."""
+    return f"contact_patch_{side}", "contact_patch"
+
+
 @dataclass(frozen=True)
 class WheelInputs:
     """What the rig does to one wheel per step (config frame): the pad height (mm,
@@ -55,12 +61,13 @@ def attach_pads(model: SuspensionModel) -> None:
         n = names(side)
         if n["pad"] in model.supports:
             continue
-        model.add_support(n["pad"], w.part, w.contact_patch_mm, (0, 0, 1, 0, 0, 0))
+        item = patch_item(side)
+        model.add_support(n["pad"], w.part, w.contact_patch_mm, (0, 0, 1, 0, 0, 0), item=item)
         model.add_load(n["patch_force"], w.part, w.contact_patch_mm, "force",
-                       marker_of=n["pad"])
-        model.add_load(n["centre_force"], w.part, w.centre_mm, "force")
+                       marker_of=n["pad"], item=item)
+        model.add_load(n["centre_force"], w.part, w.centre_mm, "force", item=item)
         model.add_load(n["centre_torque"], w.part, w.centre_mm, "torque",
-                       marker_of=n["centre_force"])
+                       marker_of=n["centre_force"], item=item)
         model.add_point_sensor(n["centre"], w.part, w.centre_mm)
         model.add_point_sensor(n["patch"], w.part, w.contact_patch_mm)
 
@@ -75,7 +82,7 @@ def attach_heave(model: SuspensionModel) -> None:
     model.add_load(HEAVE_LOAD, HEAVE, mid, "force")
     for side, w in s.wheels.items():
         model.add_support(names(side)["roll_pad"], w.part, w.contact_patch_mm,
-                          (0, 0, 1, 0, 0, 0), base=HEAVE)
+                          (0, 0, 1, 0, 0, 0), base=HEAVE, item=patch_item(side))
 
 
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
@@ -197,4 +204,4 @@ def wheel_state(model: SuspensionModel, state: ModelState, side: str,
     return StepState(state.points[n["centre"]], R @ w.spin_axis, R, state.points[n["patch"]],
                      pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
                      poses if model.options.part_poses else None, derivatives,
-                     state.scalars)
+                     state.scalars, state.loads)

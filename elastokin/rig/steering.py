@@ -36,9 +36,7 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     springs locked."""
     s = suspension
     wheel = s.wheel.part
-    elements: list[SkeletonElement] = []
-    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
-    racks = [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+    racks = _rack_joints(s)
     steer_links = [lk for lk in s.links if wheel in lk.parts]
     reason = None
     if racks:
@@ -57,19 +55,54 @@ def steering_skeleton(suspension: Suspension) -> SteeringSkeleton:
     if not s.springs:
         reason = reason or ("no spring: the travel cannot be locked (the steering axis is "
                             "computed with the springs locked)")
-    flexible = [b.part for b in s.beams if not b.rigid]
-    if flexible:
-        reason = reason or (f"the flexible beam part(s) {', '.join(flexible)}: the steering "
-                            "axis is computed for rigid parts only")
-    elements += joint_elements(s, release_rack=True)
-    for lk in s.links:
-        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
-                                 released=lk.name in released_links))
-    for sp in s.springs:  # locked: the travel is held
-        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm, spring=True))
+    reason = reason or flexible_reason(s, "the steering axis is")
+    elements = skeleton_elements(s, True, released_links, springs_released=False)
     elements, eliminated = eliminate_links(elements, s.ground, wheel)
     return SteeringSkeleton(s.ground, wheel, tuple(elements), steering, reason,
                             tuple(eliminated))
+
+
+def travel_skeleton(suspension: Suspension) -> SteeringSkeleton:
+    """Constraint skeleton of ``suspension`` for the wheel's travel: the springs' lengths
+    released (the input), the steering held (rack and tie rods); its screw axis gives the
+    front-view instant centre (:mod:`elastokin.rig.scene_motion`)."""
+    s = suspension
+    reason = (None if s.springs else "no spring: the wheel's travel input is not defined") \
+        or flexible_reason(s, "the instant centres are")
+    elements = skeleton_elements(s, False, set(), springs_released=True)
+    elements, eliminated = eliminate_links(elements, s.ground, s.wheel.part)
+    return SteeringSkeleton(s.ground, s.wheel.part, tuple(elements), "spring lengths", reason,
+                            tuple(eliminated))
+
+
+def flexible_reason(s: Suspension, what: str) -> str | None:
+    """Why a skeleton of rigid parts does not describe ``s`` (its flexible beam parts), for
+    ``what`` it would give."""
+    flexible = [b.part for b in s.beams if not b.rigid]
+    if not flexible:
+        return None
+    return f"the flexible beam part(s) {', '.join(flexible)}: {what} computed for rigid " \
+        "parts only"
+
+
+def _rack_joints(s: Suspension) -> list:
+    axle_rack = s.axle.steering.joint if s.axle is not None and s.axle.steering else None
+    return [j for j in s.joints if j.kind == "rack" or j.name == axle_rack]
+
+
+def skeleton_elements(s: Suspension, rack_released: bool, released_links: set[str],
+                      springs_released: bool) -> list[SkeletonElement]:
+    """Every joint, bushing (its ideal joint), link and spring of ``s`` as a skeleton
+    element: a rack's travel released or held (``rack_released``), the links named in
+    ``released_links`` released, the springs' lengths released or locked."""
+    elements = joint_elements(s, release_rack=rack_released)
+    for lk in s.links:
+        elements.append(SkeletonElement("distance", lk.parts, lk.points_mm,
+                                        released=lk.name in released_links))
+    for sp in s.springs:  # locked: the travel is held; released: the travel's input
+        elements.append(SkeletonElement("distance", sp.parts, sp.seats_mm,
+                                        released=springs_released, spring=not springs_released))
+    return elements
 
 
 def joint_elements(suspension: Suspension, release_rack: bool) -> list[SkeletonElement]:

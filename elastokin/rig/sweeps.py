@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from elastokin.physics.states import LoadTable, PoseSeries
+
 
 @dataclass
 class Sweep:
@@ -25,6 +27,12 @@ class Sweep:
     tangents: dict[str, np.ndarray] = field(default_factory=dict)
     #: the wheel's side ("": the config's own side, e.g. test data of a corner)
     side: str = ""
+    #: the load of every element of the model at every step (the whole model's: carried by
+    #: the config side's sweep only; None: not recorded, test data, results read back)
+    loads: LoadTable | None = None
+    #: every moving part's pose at every step (the whole model's, the same in each wheel's
+    #: sweep; None: not recorded, e.g. test data or results read back from files)
+    poses: PoseSeries | None = None
 
     def stroke(self, name: str) -> np.ndarray:
         return self.columns[name][self.columns["branch"] == "stroke"]

@@ -44,8 +44,9 @@ from pathlib import Path
 
 from elastokin.version import __version__, exudyn_version
 
-#: bumped when what an entry holds or its layout changes (5: signed entries)
-CACHE_FORMAT = 5
+#: bumped when what an entry holds or its layout changes (5: signed entries; 6: every part's
+#: pose in each sweep and the model's suspension in each ModelResult, for the 3D view)
+CACHE_FORMAT = 6
 #: the largest entry read (the case study's are under 4 MB): larger ones are refused unread
 MAX_ENTRY_BYTES = 1 << 30
 MAGIC = b"elastokin-cache"

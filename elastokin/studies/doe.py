@@ -24,6 +24,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError, SolverError
 from elastokin.mbs.design import build_model, design_state, settle_by_continuation
+from elastokin.mbs.model import NO_LOADS
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.drives import check_rig
@@ -84,8 +85,9 @@ def _context(job: dict):
 
 def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design):
     """The compliant Exudyn model of the as-built suspension (nominal design preloads, joints
-    shifted by ``shifts``, mm, config frame), built as ``elastokin synthesize`` builds it."""
-    return build_model(as_built(suspension, shifts, design).variant())
+    shifted by ``shifts``, mm, config frame), built as ``elastokin synthesize`` builds it;
+    the study reads no loads: none recorded."""
+    return build_model(as_built(suspension, shifts, design).variant(), NO_LOADS)
 
 
 #: fractions of the clearance shifts solved in turn when a sample's direct solve fails

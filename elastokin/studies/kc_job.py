@@ -81,9 +81,10 @@ def _quiet(msg: str) -> None:
 @dataclass
 class ModelResult:
     """Everything the K&C run produced for one model: the config side's sweeps and, on an
-    axle, the other wheel's (``other_sides``), the axle itself and the compliance of every
-    wheel centre (:func:`elastokin.rig.load_cases.wheel_compliance`: 6x6 on a corner, the
-    axle's 12x12 with the config side's wheel first; config frame; None: kinematic)."""
+    axle, the other wheel's (``other_sides``), the model's suspension (None: the test) and
+    the compliance of every wheel centre (:func:`elastokin.rig.load_cases.wheel_compliance`:
+    6x6 on a corner, the axle's 12x12 with the config side's wheel first; config frame; None:
+    kinematic)."""
 
     label: str
     kinematic: bool
@@ -91,8 +92,7 @@ class ModelResult:
     solver: dict
     compliance: np.ndarray | None = None
     other_sides: dict[str, list[Sweep]] = field(default_factory=dict)
-    axle: Suspension | None = None  # the model's suspension, when it is an axle
-    springs: dict[str, tuple[float, float]] = field(default_factory=dict)  # spring_shares
+    suspension: Suspension | None = None  # the model's (its geometry for the 3D view)
 
     def sweep(self, load_case: str) -> Sweep | None:
         return find_sweep(self.sweeps, load_case)
@@ -103,13 +103,14 @@ class ModelResult:
         wheels) and on an axle the axle's (``axle``,
         :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
         c, k = self.compliance, self.kinematic
-        out = summary_figures(self.sweeps, k, None if c is None else c[:6, :6], self.springs)
-        sides = {side: summary_figures(sweeps, k, None if c is None else c[6:, 6:], self.springs)
+        sp = None if self.suspension is None else spring_shares(self.suspension)
+        out = summary_figures(self.sweeps, k, None if c is None else c[:6, :6], sp)
+        sides = {side: summary_figures(sweeps, k, None if c is None else c[6:, 6:], sp)
                  for side, sweeps in self.other_sides.items()}  # the test's other wheel too
         out.update(sides)
-        if self.axle is None:
+        s = self.suspension
+        if s is None or s.axle is None:
             return out
-        s = self.axle
         by_side = {s.side: self.sweeps, **self.other_sides}
         out["axle"] = axle_characteristics(by_side, {s.side: out, **sides}, s, c)
         return out
@@ -284,8 +285,8 @@ def load_cases(variant: ModelVariant, progress: Progress = _quiet,
     by_side = run_load_cases_sides(model, variant.label)
     return ModelResult(variant.label, variant.kinematic, by_side.pop(s.side),
                        model.solver_settings(),
-                       None if variant.kinematic else wheel_compliance(model), by_side,
-                       None if s.axle is None else s, spring_shares(s))
+                       None if variant.kinematic else wheel_compliance(model), by_side, s)
+
 
 def fits_stiffness(suspension: Suspension) -> bool:
     """True when ``elastokin kc`` adds the ``identified_stiffness`` model: K&C test data,
@@ -394,7 +395,7 @@ def run_kc(suspension: Suspension, progress: Progress = _quiet,
     is the one they were computed from (:mod:`elastokin.studies.cache`). ``progress`` is
     called once per stage, ``detail`` for steps within one."""
     test, files = test_data(suspension)  # bad test files fail before any solving
-    check_rig(suspension)  # a load case given that cannot run: a warning
+    check_rig(suspension)  # a case that cannot run: a warning; that cannot be built: an error
     check_fit_on_corner(suspension)
     if test and fits_stiffness(suspension) and (models is None
                                                 or "identified_stiffness" in models):

@@ -63,6 +63,7 @@ from elastokin.errors import ConfigError
 from elastokin.formats.kc_test_channels import column_side, input_columns
 from elastokin.formats.kc_test_sweeps import axle_test_channels, sweep_to_test_channels
 from elastokin.mbs.design import build_model
+from elastokin.mbs.model import NO_LOADS
 from elastokin.physics.laws import DirectionLaw
 from elastokin.rig.channels import LOAD_CASES, TEST_CHANNELS
 from elastokin.rig.load_cases import drives, run_drive_sides, static_equilibrium
@@ -165,8 +166,8 @@ def real_corner(suspension: Suspension, shifts: dict[str, np.ndarray]) -> ModelV
 
 def real_suspension_model(suspension: Suspension, seed: int | None = None):
     """The Exudyn model of the config corner's synthetic real suspension
-    (:func:`real_suspension_variant`)."""
-    return build_model(real_suspension_variant(suspension, seed))
+    (:func:`real_suspension_variant`); no loads recorded (the test files have none)."""
+    return build_model(real_suspension_variant(suspension, seed), NO_LOADS)
 
 
 #: the random streams of the synthetic data besides the CMM's (``seed``): ``[seed, n]``
@@ -246,7 +247,8 @@ def run_real_suspension(suspension: Suspension, seed: int | None = None,
     out: dict[tuple[str, str], Sweep] = {}
     own = real_suspension_variant(s, seed)
     for kind, ds in _runs(s):
-        model = build_model(real_axle_variant(s, seed, own) if kind == "axle" else own)
+        model = build_model(real_axle_variant(s, seed, own) if kind == "axle" else own,
+                            NO_LOADS)
         for drive in ds:
             progress(f"synthetic real suspension ({kind}): {drive.load_case}")
             for sw in run_drive_sides(model, "test", drive):
