@@ -87,7 +87,8 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
         columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
-        if LOAD_CASES[drive.load_case].input == "wheel_travel_mm":  # the travel cases
+        case = LOAD_CASES.get(drive.load_case)  # vehicle loads are not in the table
+        if case is not None and case.input == "wheel_travel_mm":  # the travel cases
             columns.update(motion_ratio_columns(columns))
         tangents = wheel_column_tangents(by_side[side], view) if variations else {}
         sweeps.append(Sweep(label, drive.load_case, columns, tangents, side,
