@@ -91,7 +91,7 @@ class MirroredResolver(Resolver):
 class AcrossResolver(Resolver):
     """The items joining the two sides of an axle (a heave spring between ``rocker`` and the
     other side's ``rocker_right``): kept once, resolved with both corners' hardpoints (the
-    other side's by the names the axle gives them, ``heave_mount_right``), each joining a
+    other side's by the names the axle gives them, ``heave_rocker_right``), each joining a
     part of the config's corner to the other side's copy of one."""
 
     def __init__(self, corner_resolver: Resolver, hardpoints: dict[str, np.ndarray]):
@@ -157,7 +157,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     a_items = [*(("connections", c) for c in (*a_joints, *a_links, *a_bushings)),
                *(("springs", c) for c in a_springs), *(("stops", c) for c in a_stops),
                *(("dampers", c) for c in a_dampers)]
-    check_across_points(corner, a_items, spec.shared, suffix, resolver.fail)
+    check_across_points(corner, a_items, spec.shared, resolver.fail)
     d = resolver.spec.design
     springs = {sp.name for sp in corner.springs + other.springs}
     balance = tuple(n for n in (d.balance_spring, f"{d.balance_spring}{suffix}")
@@ -180,7 +180,7 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
                    wheels={corner.side: corner.wheel, mirrored.other: other.wheel}, axle=axle)
 
 
-def check_across_points(corner: Suspension, items, shared, suffix: str, fail) -> None:
+def check_across_points(corner: Suspension, items, shared, fail) -> None:
     """Every point of an item joining the two sides (``items``: (config section, resolved
     item)) lies on the side of the part that holds it: a corner part's on the config's side
     of the centre plane, the other side's copy's on the other side (a shared part's or the
@@ -189,7 +189,7 @@ def check_across_points(corner: Suspension, items, shared, suffix: str, fail) ->
         pts = getattr(it, "points_mm", None) or getattr(it, "seats_mm", None) or \
             (it.position_mm, it.position_mm)
         for part, p in zip(it.parts, pts):
-            side = -1.0 if part.endswith(suffix) else \
+            side = -1.0 if other_copy(part, corner.side, corner.parts, shared) else \
                 1.0 if part in corner.parts and part not in shared else 0.0
             if side and float(p @ corner.outboard) * side <= CENTRE_PLANE_TOLERANCE_MM:
                 where = corner.side if side > 0 else other_side(corner.side)
