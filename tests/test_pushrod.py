@@ -219,6 +219,11 @@ def test_an_item_across_the_car_is_resolved_once_between_the_sides():
     assert [sp.name for sp in s.springs] == ["coil", "coil_right", "heave"]
     assert [dm.name for dm in s.dampers] == ["shock", "shock_right"]
     assert s.axle.across == ("heave",)
+    # the corner alone has no other side: without the heave spring; the spring couples them
+    from elastokin.config.variants import corner, side_couplings
+
+    assert [sp.name for sp in corner(s).springs] == ["coil"]
+    assert "'heave', joining the two sides" in side_couplings(s)
 
 
 @pytest.mark.parametrize("edit, key, words", [
