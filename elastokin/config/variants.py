@@ -153,8 +153,9 @@ def corner(suspension: Suspension) -> Suspension:
 
 def side_couplings(suspension: Suspension) -> list[str]:
     """What couples the two sides of an axle (shared parts, items joining the two sides, the
-    anti-roll bar, the steering rack); empty for a corner, or an axle whose corners are independent (then each side
-    responds to its own wheel's inputs as its corner alone would)."""
+    anti-roll bar, the steering rack); empty for a corner, or an axle whose corners are
+    independent (then each side responds to its own wheel's inputs as its corner alone
+    would)."""
     a = suspension.axle
     if a is None:
         return []
