@@ -293,6 +293,9 @@ def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
     :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
     part (rotation (n, 3, 3), displacement (n, 3)))."""
     scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    scalars.update({f"{k}_length:{n}": data[f"{k}_length:{n}"][:, 0]
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
         scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]
