@@ -128,13 +128,12 @@ def test_double_wishbone_rear_roll_centre_from_the_knuckles_velocity():
     """The HMMWV's rear (ideal joints): the kinematic roll centre against the arm-line
     construction in 3D. Its upper arm's axis is 0.8 deg off the x axis, so the planar
     construction of tests/test_axle_roll_centre.py is not exact (its front-view arm lines put
-    the roll centre at 398.8 mm, 7.7 mm low); here the knuckle's velocity
-    at design is solved from the hardpoints: each ball joint moves as its arm turns about the
-    pivot axis through its chassis points, the tie rod keeps its length, the wheel centre
-    rises at unit rate (8 linear equations: the knuckle's 6, the arms' 2 rates). The contact
-    point's front-view velocity then gives the line to the centre plane. 0.01 mm: the
-    model's roll centre is a central difference along its 1 mm steps (measured 1.2e-4 mm).
-    """
+    the roll centre at 398.8 mm, 7.7 mm low); here the knuckle's velocity at design is solved
+    from the hardpoints: each ball joint moves as its arm turns about the pivot axis through
+    its chassis points, the tie rod keeps its length, the wheel centre rises at unit rate (8
+    linear equations: the knuckle's 6, the arms' 2 rates). The contact point's front-view
+    velocity then gives the line to the centre plane. 0.01 mm: the model's roll centre is a
+    central difference along its 1 mm steps (measured 1.2e-4 mm)."""
     d, sweep = kinematic_travel("double_wishbone_rear_axle.yaml",
                                 {"rebound_mm": -4, "bump_mm": 4, "step_mm": 1})
     c = point(d, "wheel_centre")
@@ -343,10 +342,10 @@ def test_compliance_is_reciprocal_and_the_force_based_roll_centre_kinematic(name
       matrix, ADAMS/Car's construction) is the kinematic one of the same model (from its
       parallel travel) within 1 mm (measured 0.004 mm, HMMWV rear 0.0007 mm; the compliant
       models' own differ by 49 mm multi-link, 3.4 mm semi-trailing arm, 0.7 mm Panhard,
-      12 mm HMMWV rear: the bushings). (Stiffening
-      the bushings' held directions 1000 times instead converges to it too, 109.68 against
-      109.63 mm on the multi-link, but such laws stall Newton at its absolute tolerance on
-      the other two.)"""
+      12 mm HMMWV rear: the bushings). (Stiffening the bushings' held directions 1000 times
+      instead converges to it too, 109.68 against 109.63 mm on the multi-link, but such laws
+      stall Newton at its absolute tolerance on the semi-trailing arm and the Panhard axle.)
+      """
     from elastokin.rig.load_cases import wheel_compliance
 
     d = config(name)
