@@ -9,7 +9,9 @@ the parts' poses at every rig step costs the K&C run.
   waits until it is scrolled to), then from scrolling to the view to the view drawn and
   ready (plotly.js run, the first frame drawn), medians of ``--repeat``, and the CPU time
   Chromium spent (all its processes, and the page's renderer alone: what the time comes to
-  on an idle machine, where the wall time is inflated by other work);
+  on an idle machine, where the wall time is inflated by other work); and the same page
+  with plotly's full bundle in place of the gl3d partial bundle the view ships
+  (``full_bundle``), measured in the same run;
 - **view**: per config, ``elastokin view`` in a fresh process (start-up, imports and the
   page) and in-process (the draft, the scene and the page), the page's size and load time;
 - **poses**: every load case of the rig on one built model with the poses recorded against
@@ -91,12 +93,12 @@ def chromium_cpu(pid: int) -> dict:
 
 def page_parts(path: Path) -> dict:
     """Bytes of a page: in all, plotly.js, the view's data, the rest."""
+    from elastokin.report.view3d import plotly_js as bundle
+
     text = path.read_text(encoding="utf-8")
     data = re.search(r'<script type="application/json" id="ekv-data">(.*?)</script>', text,
                      re.S)
-    from plotly.offline import get_plotlyjs
-
-    plotly_js = len(get_plotlyjs().encode()) if "Plotly" in text else 0
+    plotly_js = len(bundle().encode()) if bundle() in text else 0
     data_bytes = len(data.group(1).encode()) if data else 0
     total = path.stat().st_size
     return {"bytes": total, "plotly_js_bytes": plotly_js, "view_data_bytes": data_bytes,
@@ -131,7 +133,25 @@ def report_figures(quick: bool, repeat: int, folder: Path) -> dict:
            "write_results_s": round(write_s, 3), "view_in_report_s": round(view_s, 3),
            **page_parts(folder / "report.html")}
     out["load"] = load_times((folder / "report.html").resolve().as_uri(), repeat, lazy=True)
+    out["full_bundle"] = full_bundle(folder / "report.html", repeat)
     return out
+
+
+def full_bundle(page: Path, repeat: int) -> dict | None:
+    """The same page with plotly's full bundle (the plotly Python package's, 4.8 MB) in place
+    of the gl3d partial bundle the view ships: its size and load times, for the comparison
+    (None without the plotly package)."""
+    try:
+        from plotly.offline import get_plotlyjs
+    except ImportError:
+        return None
+    from elastokin.report.view3d import plotly_js
+
+    full = page.with_name("report_full_bundle.html")
+    full.write_text(page.read_text(encoding="utf-8").replace(plotly_js(), get_plotlyjs()),
+                    encoding="utf-8")
+    return {"bytes": full.stat().st_size, "plotly_js_bytes": len(get_plotlyjs().encode()),
+            "load": load_times(full.resolve().as_uri(), repeat, lazy=True)}
 
 
 def view_figures(config: Path, repeat: int, folder: Path, quick: bool) -> dict:
@@ -246,6 +266,9 @@ def main() -> None:
           f"{r['other_bytes'] / 1e6:.2f}); {r['frames']} frames; view adds "
           f"{r['view_in_report_s']:.2f} s to writing the results ({r['write_results_s']:.2f} s)"
           f"; load {r['load']}")
+    if r["full_bundle"]:
+        print(f"the same with plotly's full bundle: {r['full_bundle']['bytes'] / 1e6:.2f} MB; "
+              f"load {r['full_bundle']['load']}")
     for c, v in result["view"].items():
         print(f"view {c}: process {v.get('process_s')} s, in process {v['in_process_s']:.2f} s,"
               f" {v['bytes'] / 1e6:.2f} MB, load {v.get('load')}")

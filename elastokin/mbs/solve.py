@@ -257,6 +257,11 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
         defl[name], load[name] = u, f
     poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
+    for part, line in model.node_lines.items():  # a node's rotation from its design frame
+        frames = model.beams[part].frames
+        poses.node_mm[part] = np.array([row[f"part:node:{n}:disp"] for n in line])
+        poses.node_rotation[part] = np.array([row[f"part:node:{n}:R"].reshape(3, 3)
+                                              @ frames[n].T for n in line])
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
