@@ -15,7 +15,9 @@ the parts' poses at every rig step costs the K&C run.
 - **view**: per config, ``elastokin view`` in a fresh process (start-up, imports and the
   page) and in-process (the draft, the scene and the page), the page's size and load time;
 - **poses**: every load case of the rig on one built model with the poses recorded against
-  the same without (``PoseSeries.stack`` replaced by a no-op), best of ``--repeat``.
+  the same without (``PoseSeries.stack`` replaced by a no-op), best of ``--repeat``;
+- **beam_nodes**: the twist beam's load cases with and without its beam's node poses
+  recorded (the sensors of ``BeamBody.record_line``), alternately, best of ``--repeat``.
 
 Prints the figures and writes ``benchmarks/results/bench_view.json`` (``--quick``:
 ``bench_view_quick.json``), with the machine's load average before and after. Browser figures
@@ -38,6 +40,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # tests/browser.py: headless Chromium over a pipe
+
+import numpy as np  # noqa: E402
 
 from elastokin.version import __version__  # noqa: E402
 
@@ -233,6 +237,55 @@ def pose_cost(quick: bool, repeat: int) -> dict:
             "parallel_travel": stack_cost(model, repeat)}
 
 
+def _same(u, v) -> bool:
+    u, v = np.asarray(u), np.asarray(v)
+    return np.array_equal(u, v, equal_nan=u.dtype.kind == "f")
+
+
+def beam_node_cost(quick: bool, repeat: int) -> dict:
+    """The twist beam's load cases (``quick``: its opposite travel only) on a model that
+    records its beam's node poses against the same model without (``BeamBody.record_line``
+    recording nothing), alternately, best of ``repeat``; every column checked identical."""
+    from elastokin.config.loading import read_yaml, suspension_from_dict
+    from elastokin.mbs import beams
+    from elastokin.mbs.design import build_model
+    from elastokin.rig.load_cases import run_load_cases_sides
+
+    config = ROOT / "configs" / "twist_beam_axle.yaml"
+    data = read_yaml(config)[0]
+    if quick:
+        data["rig"] = {**{k: None for k in ("vertical_force", "lateral_force",
+                                            "longitudinal_force_patch", "aligning_torque",
+                                            "longitudinal_force_centre", "roll_vertical_force",
+                                            "single_wheel_travel", "steering")},
+                       "parallel_travel": {"rebound_mm": -10, "bump_mm": 10, "step_mm": 10}}
+    s = suspension_from_dict(data, str(config))
+    record = beams.BeamBody.record_line
+    models = {"with_nodes": build_model(s)}
+    beams.BeamBody.record_line = lambda self, sensors: []
+    try:
+        models["without_nodes"] = build_model(s)
+    finally:
+        beams.BeamBody.record_line = record
+    best = {k: float("inf") for k in models}
+    sweeps = {}
+    for _ in range(max(repeat, 2)):
+        for k, model in models.items():
+            t0 = time.perf_counter()
+            sweeps[k] = run_load_cases_sides(model, "bench")
+            best[k] = min(best[k], time.perf_counter() - t0)
+    a, b = (sweeps[k][s.side] for k in models)
+    same = all(set(x.columns) == set(y.columns) and all(
+        _same(x.columns[c], y.columns[c]) for c in x.columns) for x, y in zip(a, b))
+    steps = sum(sw.steps for sw in a)
+    nodes = sum(len(v) for v in models["with_nodes"].node_lines.values())
+    return {"config": str(config.relative_to(ROOT)), "quick": quick, "steps": steps,
+            "nodes_recorded": nodes, "with_nodes_s": round(best["with_nodes"], 4),
+            "without_nodes_s": round(best["without_nodes"], 4),
+            "ratio": round(best["with_nodes"] / best["without_nodes"], 4),
+            "identical_columns": bool(same)}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
@@ -255,7 +308,8 @@ def main() -> None:
                   "report": report_figures(args.quick, repeat, folder / "res"),
                   "view": {c.stem: view_figures(c, repeat, folder, args.quick)
                            for c in configs},
-                  "poses": pose_cost(args.quick, repeat)}
+                  "poses": pose_cost(args.quick, repeat),
+                  "beam_nodes": beam_node_cost(args.quick, repeat)}
     result["load_average_after"] = os.getloadavg()
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=2) + "\n")
@@ -276,6 +330,10 @@ def main() -> None:
     print(f"poses recorded ({p['config']}): {p['with_poses_s']:.3f} s against "
           f"{p['without_poses_s']:.3f} s without (x{p['ratio']:.3f}); stacking "
           f"{p['parallel_travel']}")
+    n = result["beam_nodes"]
+    print(f"beam nodes recorded ({n['config']}, {n['nodes_recorded']} nodes, {n['steps']} "
+          f"steps): {n['with_nodes_s']:.3f} s against {n['without_nodes_s']:.3f} s without "
+          f"(x{n['ratio']:.3f}); identical columns: {n['identical_columns']}")
     print(f"wrote {out}")
 
 

@@ -304,8 +304,9 @@ class SuspensionModel:
             self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
         #: the beam parts' node lines, their nodes' poses recorded with every part's
-        self.node_lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
+        lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
             if self.options.part_poses else {}
+        self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:
         """Record a body's rotation matrix and displacement at every step

@@ -229,8 +229,14 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
         data[f"bushing:{name}:load"] = np.concatenate(
             [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
             axis=1)
-    picked = {k: (v[idx] if k.endswith((":u", ":load")) else v[idx, 1:])
-              for k, v in data.items() if not k.startswith("load:")}
+    for part, line in model.node_lines.items():  # a beam's nodes: one array each per step
+        design = np.array([model.beams[part].frames[n] for n in line])
+        R = np.stack([data.pop(f"part:node:{n}:R")[:, 1:] for n in line], axis=1)
+        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
+        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")[:, 1:]
+                                                for n in line], axis=1)
+    picked = {k: (v[idx] if k.endswith((":u", ":load", ":node_R", ":node_x")) else v[idx, 1:])
+              for k, v in data.items() if not k.startswith(("load:", "part:node:"))}
     rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
     for i, row in enumerate(rows):
         row["loads"] = None if loads is None else loads.step(i)
@@ -257,11 +263,9 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
         defl[name], load[name] = u, f
     poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
-    for part, line in model.node_lines.items():  # a node's rotation from its design frame
-        frames = model.beams[part].frames
-        poses.node_mm[part] = np.array([row[f"part:node:{n}:disp"] for n in line])
-        poses.node_rotation[part] = np.array([row[f"part:node:{n}:R"].reshape(3, 3)
-                                              @ frames[n].T for n in line])
+    for part in model.node_lines:  # rotations from the nodes' design frames (recorded())
+        poses.node_mm[part] = row[f"beam:{part}:node_x"]
+        poses.node_rotation[part] = row[f"beam:{part}:node_R"]
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
