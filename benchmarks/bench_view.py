@@ -287,6 +287,8 @@ def beam_node_cost(quick: bool, repeat: int) -> dict:
 
 
 def main() -> None:
+    from elastokin.config.vehicle import is_vehicle_file
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
                     help="the report of the double wishbone axle on the travel-only rig, one "
@@ -298,7 +300,8 @@ def main() -> None:
     out = Path(args.out or ROOT / "benchmarks" / "results" / name)
     repeat = 1 if args.quick else args.repeat
     load_before = os.getloadavg()
-    configs = sorted((ROOT / "configs").glob("*.yaml"))[:1 if args.quick else None]
+    configs = [c for c in sorted((ROOT / "configs").glob("*.yaml"))  # suspensions only
+               if not is_vehicle_file(c)][:1 if args.quick else None]
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         (folder / "res").mkdir()

@@ -69,13 +69,15 @@ def picture(config: Path, out: Path, browser) -> Path:
 
 
 def main() -> None:
+    from elastokin.config.vehicle import is_vehicle_file
     from tests.browser import Browser
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", help="config names (default: every config)")
     ap.add_argument("--out", default=str(ROOT / "docs" / "pictures"))
     args = ap.parse_args()
-    configs = sorted((ROOT / "configs").glob("*.yaml"))
+    configs = [c for c in sorted((ROOT / "configs").glob("*.yaml"))
+               if not is_vehicle_file(c)]  # a vehicle file names two axles: no picture
     if args.names:
         configs = [c for c in configs if c.stem in args.names]
     with Browser(WIDTH + 400, HEIGHT + 400, offline=True) as browser:

@@ -15,6 +15,7 @@ The public Python API (the CLI is a thin layer over it)::
     sweeps = ek.run_load_cases(model, "kinematic")                # every load case of the rig
     ident = ek.identify_geometry(s)                               # the paper's method
     motion = ek.identify_motion(s)             # joints from the parts' motion (a 'motion' plan)
+    car = ek.run_vehicle(ek.load_vehicle("configs/vehicle_hmmwv.yaml"))   # the whole car
 
 A resolved :class:`Suspension` is read-only: ``s.hardpoints["J3"] = ...`` raises and names
 ``with_hardpoints``; ``copy.deepcopy(s.raw)`` is the config mapping to edit (numpy numbers
@@ -70,9 +71,16 @@ _API = {
     "run_kc_from_variants": "elastokin.studies.kc_job",
     "KCRun": "elastokin.studies.kc_job",
     "read_test_sweeps": "elastokin.formats.kc_test_sweeps",
+    # the whole car
+    "load_vehicle": "elastokin.config.vehicle",
+    "run_vehicle": "elastokin.studies.vehicle_job",
+    "run_vehicle_from_axles": "elastokin.studies.vehicle_job",
+    "VehicleRun": "elastokin.studies.vehicle_job",
     # results
     "write_kc_results": "elastokin.report.files",
     "read_results": "elastokin.report.files",
+    "write_vehicle_results": "elastokin.report.vehicle_files",
+    "read_vehicle_results": "elastokin.report.vehicle_files",
 }
 
 __all__ = ["__version__", *_API]

@@ -570,7 +570,18 @@ OPTION_CASES = [
          ["bad.yaml", "no 'measurements' section"]),
     case("unknown --only", "synthesize", lambda f: ["--config", f.config(), "--only", "all"],
          ["--only", "'all'"], code=2),
-    case("missing --config", "kc", lambda f: [], ["Missing option '--config'"], code=2),
+    case("missing --config", "kc", lambda f: [],
+         ["give --config (one suspension) or --vehicle (the whole car)"], code=2),
+    case("vehicle file: a key misspelt", "kc", lambda f: ["--vehicle", f.file(
+        "car.yaml", "elastokin: 1\nname: car\nunits: {}\nfront: {config: a.yaml}\n"
+                    "rear: {config: a.yaml}\nwheelbase_m: 3.0\n")],
+         ["car.yaml: unknown top-level key 'wheelbase_m' (did you mean 'wheelbase_mm'?)"]),
+    case("vehicle file: an axle config outside its folder", "kc", lambda f: ["--vehicle", f.file(
+        "car.yaml", "elastokin: 1\nname: car\nunits: {}\nfront: {config: ../a.yaml}\n"
+                    "rear: {config: a.yaml}\nwheelbase_mm: 3000\ncg_height_mm: 500\n"
+                    "mass_kg: 1500\nfront_mass_fraction: 0.5\nbrake_fraction_front: 0.6\n"
+                    "drive_fraction_front: 1\n")],
+         ["car.yaml: key 'front.config': axle config '../a.yaml' leads to", "--data FOLDER"]),
     case("unknown option", "kc", lambda f: ["--config", f.config(), "--colour"],
          ["--colour"], code=2),
     case("unknown command", "frobnicate", lambda f: [], ["frobnicate"], code=2, out=False),

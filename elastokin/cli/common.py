@@ -1,10 +1,11 @@
 """What every command shares: the one-line error exit, the output checked before any
 computation and replaced only when a run succeeded (its staging folders and move lock:
-:mod:`elastokin.cli.staging`), the Python warnings of a run as one line each, and the
-``--rig`` option."""
+:mod:`elastokin.cli.staging`), the Python warnings of a run as one line each, the progress
+bar and the ``--rig`` option."""
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import functools
 import os
@@ -199,6 +200,43 @@ rig_option = click.option(
     show_default="the config's rig section",
     help="Rig file (YAML): the load cases to run instead of the config's 'rig' section "
          "(README 'Rig files'; e.g. configs/rigs/paper_fig9.yaml).")
+
+
+#: model runs the progress bar expects of a stiffness fit (the case study takes 6)
+FIT_RUNS_EXPECTED = 7
+
+
+@contextlib.contextmanager
+def progress_bar(stages: int, quiet: bool = False):
+    """A progress bar on stderr (elapsed time and an estimate of what is left) as a
+    function ``progress(message)`` that shows the message and counts one stage; more stages
+    than expected (a fit taking more model runs) extend the bar. Shown only on a terminal
+    (not when stderr is piped or a file), never with ``quiet``."""
+    from tqdm import tqdm
+
+    with tqdm(total=max(stages, 1), disable=True if quiet else None, file=sys.stderr,
+              leave=False,
+              bar_format="{desc:<56} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]"
+              ) as bar:
+        def progress(msg: str) -> None:
+            if bar.n + 1 >= bar.total:
+                bar.total = bar.n + 2
+            bar.set_description_str(msg)
+            bar.update(1)
+        yield progress
+
+
+def kc_stages(suspension, chosen: list[str]) -> int:
+    """The stages ``elastokin kc`` reports for a config and the models ``chosen``: loading,
+    each model's build and load cases, the identifications, the stiffness fit's model runs,
+    writing."""
+    from elastokin.studies.kc_job import fits_stiffness, model_labels
+
+    s = suspension
+    labels = [m for m in model_labels(s) if m in chosen]
+    fit = fits_stiffness(s) and "identified_stiffness" in chosen
+    return (3 + 2 * len(labels) + (s.measurements is not None) + (s.motion is not None)
+            + (2 + FIT_RUNS_EXPECTED) * fit)
 
 
 def data_option(command):

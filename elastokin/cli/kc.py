@@ -5,57 +5,43 @@ of a run are printed once each as ``elastokin: warning: ...`` lines."""
 
 from __future__ import annotations
 
-import contextlib
 import json
-import sys
 from pathlib import Path
 
 import click
 
 from elastokin.cli.common import (
+    FIT_RUNS_EXPECTED,
     Output,
     WarningLog,
     check_writable,
     data_hint,
     data_option,
     fail,
+    kc_stages,
     os_error,
+    progress_bar,
     rig_option,
 )
 from elastokin.errors import ElastokinError
 
-#: model runs the progress bar expects of a stiffness fit (the case study takes 6)
-FIT_RUNS_EXPECTED = 7
-
-
-@contextlib.contextmanager
-def progress_bar(stages: int, quiet: bool = False):
-    """A progress bar on stderr (elapsed time and an estimate of what is left) as a
-    function ``progress(message)`` that shows the message and counts one stage; more stages
-    than expected (a fit taking more model runs) extend the bar. Shown only on a terminal
-    (not when stderr is piped or a file), never with ``quiet``."""
-    from tqdm import tqdm
-
-    with tqdm(total=max(stages, 1), disable=True if quiet else None, file=sys.stderr,
-              leave=False,
-              bar_format="{desc:<56} {bar} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]"
-              ) as bar:
-        def progress(msg: str) -> None:
-            if bar.n + 1 >= bar.total:
-                bar.total = bar.n + 2
-            bar.set_description_str(msg)
-            bar.update(1)
-        yield progress
-
 
 @click.command()
-@click.option("--config", "config_path", required=True,
+@click.option("--config", "config_path", default=None,
               type=click.Path(dir_okay=False, path_type=Path),
               help="Suspension config file (YAML, see README 'Config reference').")
+@click.option("--vehicle", "vehicle_path", default=None,
+              type=click.Path(dir_okay=False, path_type=Path),
+              help="Instead of --config: a vehicle file (YAML, README 'The whole car') naming "
+                   "a front and a rear axle config: both axles on the rig with one set of "
+                   "vehicle data, and the car's figures (roll stiffness distribution, roll "
+                   "axis, understeer from compliance and roll steer, anti-dive and -squat).")
 @click.option("--out", "out_dir", type=click.Path(path_type=Path), metavar="DIRECTORY",
-              default=None, show_default="results/<config name>",
-              help="Folder for kc.csv, summary.json and the charts; replaced as a whole when "
-                   "the run succeeds, untouched when it fails.")
+              default=None, show_default="results/<config or vehicle file name>",
+              help="Folder for kc.csv, summary.json and the charts (with --vehicle: the car's "
+                   "summary.json, car.csv, charts and report, each axle's results in front/ "
+                   "and rear/); replaced as a whole when the run succeeds, untouched when it "
+                   "fails.")
 @rig_option
 @click.option("--models", "models", default=None, metavar="NAMES",
               help="Comma-separated models to run (default: every model the config yields: "
@@ -69,22 +55,30 @@ def progress_bar(stages: int, quiet: bool = False):
               "default).")
 @click.option("--quiet", is_flag=True, help="No progress bar, no result table.")
 @data_option
-def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: str | None,
-       refit: bool, svg: bool, quiet: bool) -> None:
+def kc(config_path: Path | None, vehicle_path: Path | None, out_dir: Path | None,
+       rig_path: Path | None, models: str | None, refit: bool, svg: bool, quiet: bool) -> None:
     """Run the virtual K&C rig: static equilibrium under the design wheel load and every
     load case of the config's rig, for each model (initial and identified with CMM data), and
-    compare them with the config's K&C test data (kc_test).
+    compare them with the config's K&C test data (kc_test). With --vehicle instead of
+    --config: the whole car, both axles on the rig (README 'The whole car').
 
     Writes kc.csv (one row per model, load case, wheel side and step; units in column names),
     summary.json (characteristics, errors against the test, Table-3 style bushing
     deflections, provenance), the charts (PNG; --svg: also SVG) and a self-contained
     report.html.
     """
+    if (config_path is None) == (vehicle_path is None):
+        raise click.UsageError("give --config (one suspension) or --vehicle (the whole car)")
+    if vehicle_path is not None:
+        from elastokin.cli.vehicle import kc_vehicle
+
+        kc_vehicle(vehicle_path, out_dir, rig_path, models, refit, svg, quiet)
+        return
     from elastokin.config.loading import load_suspension_with_rig
     from elastokin.report.files import write_kc_results
     from elastokin.report.text import kc_table
     from elastokin.studies.cache import ResultCache
-    from elastokin.studies.kc_job import fits_stiffness, model_labels, run_kc, select_models
+    from elastokin.studies.kc_job import run_kc, select_models
 
     out_dir = out_dir or Path("results") / config_path.stem
     output = Output(out_dir)
@@ -93,11 +87,7 @@ def kc(config_path: Path, out_dir: Path | None, rig_path: Path | None, models: s
             output.check()  # before any computation
             suspension = load_suspension_with_rig(config_path, rig_path)
             chosen = select_models(suspension, models)
-            labels = [m for m in model_labels(suspension) if m in chosen]
-            fit = fits_stiffness(suspension) and "identified_stiffness" in chosen
-            stages = (3 + 2 * len(labels) + (suspension.measurements is not None)
-                      + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * fit)
-            with output as tmp, progress_bar(stages, quiet) as progress:
+            with output as tmp, progress_bar(kc_stages(suspension, chosen), quiet) as progress:
                 cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
                 # every model run of the fit advances the bar too
                 run = run_kc(suspension, progress, progress, chosen, cache)

@@ -25,7 +25,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError, ElastokinError
 
 __all__ = ["Roots", "config_roots", "confined_path", "data_file", "data_folder", "data_folders",
-           "resolved"]
+           "resolved", "typed_folders"]
 
 
 def resolved(path: str | Path) -> Path:
@@ -107,6 +107,11 @@ def data_folders(folders: Iterable[str | Path]) -> Iterator[None]:
         yield
     finally:
         _TYPED.reset(token)
+
+
+def typed_folders() -> tuple[Path, ...]:
+    """The folders typed with ``--data`` for the command running (:func:`data_folders`)."""
+    return _TYPED.get()
 
 
 def config_roots(s: Suspension, folders: Iterable[str | Path] = ()) -> Roots:

@@ -40,6 +40,8 @@ RANGES = {
     "rate_Nmm_per_deg": Plausible(100.0, 1e8, "N*mm/deg", (("N*m/deg", 1000.0),)),
     # the mass one axle carries (the static-load analysis)
     "axle_mass_kg": Plausible(20.0, 30_000.0, "kg", (("N", 1.0 / 9.80665), ("tonnes", 1000.0))),
+    # the whole vehicle's mass (a vehicle file)
+    "mass_kg": Plausible(50.0, 60_000.0, "kg", (("N", 1.0 / 9.80665), ("tonnes", 1000.0))),
 }
 
 

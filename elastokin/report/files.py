@@ -46,15 +46,21 @@ def config_provenance(s) -> dict:
     }
 
 
-def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict, side: str = "left") -> None:
+#: the provenance keys kc.csv's header gives first
+CSV_HEADER = ("elastokin_version", "exudyn_version", "config_file", "config_sha256")
+
+
+def write_kc_csv(path: Path, sweeps: list[Sweep], header: dict, side: str = "left",
+                 keys: tuple[str, ...] = CSV_HEADER) -> None:
     """One row per model, load case, wheel side and step; a ``#`` comment header carries
-    provenance (read with ``pandas.read_csv(path, comment="#")``). ``side`` is the config's
-    side: the side of a sweep that names none (test data of a corner)."""
+    provenance (``keys`` of ``header``; read with ``pandas.read_csv(path, comment="#")``).
+    ``side`` is the config's side: the side of a sweep that names none (test data of a
+    corner)."""
     names: list[str] = []
     for sw in sweeps:
         names += [c for c in sw.columns if c not in names and c != "branch"]
     with open(path, "w", newline="") as fh:
-        for key in ("elastokin_version", "exudyn_version", "config_file", "config_sha256"):
+        for key in keys:
             fh.write(f"# {key}: {header[key]}\n")
         if header.get("rig_file"):
             fh.write(f"# rig_file: {header['rig_file']}\n")

@@ -18,7 +18,7 @@ from elastokin.report.charts import CHARTS, chart_caption
 from elastokin.report.html_axle import axle_section
 from elastokin.report.html_loads import loads_section
 from elastokin.report.html_motion import motion_section
-from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.html_parts import esc, figure, note, num, page, table
 from elastokin.report.load_charts import LOAD_CHART
 from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel
@@ -48,48 +48,6 @@ SIGNED = ("toe_deg", "camber_deg", "wheel_travel_mm", "wheel_centre_longitudinal
           "wheel_centre_lateral_mm", "vertical_force_N", "lateral_force_N",
           "longitudinal_force_N", "aligning_torque_Nmm", "caster_deg",
           "kingpin_inclination_deg", "scrub_radius_mm", "caster_trail_mm")
-
-_CSS = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;max-width:1100px;
-margin:1.5em auto;padding:0 1em;color:#1d1d1d;line-height:1.4}
-h1{margin-bottom:0.2em}h2{border-bottom:2px solid #1d1d1d;padding-bottom:2px;margin-top:2em}
-h3{margin-top:1.4em}
-table{border-collapse:collapse;margin:0.6em 0 1em 0;font-size:92%}
-td,th{border:1px solid #c4c4c4;padding:3px 8px;text-align:right;vertical-align:top}
-th{background:#f0f0f0}th:first-child,td:first-child{text-align:left}
-td.text,th.text{text-align:left}
-tr.flag td{background:#fff1e0}.bad{color:#b00000;font-weight:bold}
-.note{color:#505050;font-size:92%}.synthetic{background:#fff4c2;padding:0.5em 0.8em;
-border-left:4px solid #d9a400}
-nav ol{columns:2;font-size:95%}
-figure{margin:1.2em 0 2em 0;width:100%}
-figure img{width:100%;height:auto;cursor:zoom-in;border:1px solid #ddd}
-figcaption{font-size:92%;color:#303030;margin-top:0.3em}
-#lightbox{position:fixed;inset:0;background:rgba(0,0,0,0.85);display:flex;
-align-items:center;justify-content:center;cursor:zoom-out;z-index:10}
-#lightbox[hidden]{display:none}
-#lightbox img{max-width:98vw;max-height:96vh;height:96vh;width:auto;object-fit:contain;
-background:#fff}
-code{font-size:92%}
-h4{margin:1em 0 0.3em 0}.wide{overflow-x:auto}
-.worst{font-weight:bold;background:#ffd9a0;padding:0 3px}
-details{margin:0.5em 0}
-"""
-
-#: click a chart to see it as large as the window; click or Escape to close
-_SCRIPT = """<div id="lightbox" hidden><img alt="enlarged chart"></div><script>
-(function(){var box=document.getElementById('lightbox'),big=box.querySelector('img');
-document.querySelectorAll('figure img').forEach(function(img){img.addEventListener('click',
-function(){big.src=img.src;big.alt=img.alt;box.hidden=false;});});
-box.addEventListener('click',function(){box.hidden=true;});
-document.addEventListener('keydown',function(e){if(e.key==='Escape'){box.hidden=true;}});
-})();</script>"""
-
-
-def section(key: str, number: int, body: list[str]) -> str:
-    return (f'<section id="{key}"><h2>{number}. {esc(HEADINGS[key])}</h2>'
-            + "".join(body) + "</section>")
-
 
 # ------------------------------------------------------------------------------ sections
 def summary_section(summary: dict) -> list[str]:
@@ -418,23 +376,16 @@ def write_report(path: Path, summary: dict, charts: list[Path],
     identification's magnification, :func:`view_section`)."""
     sections = report_sections(summary, charts, identification, motion, view)
     title = f"K&C report: {summary.get('config_name') or summary['config_file']}"
-    head = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta "
-            f"name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>"
-            f"{esc(title)}</title><style>{_CSS}</style></head><body>",
-            f"<header><h1>{esc(title)}</h1>",
-            note(f"Config <code>{esc(summary['config_file'])}</code>"
-                 + (f", rig file <code>{esc(summary['rig_file'])}</code>"
-                    if summary.get("rig_file") else "")
-                 + f"; elastokin {esc(summary['elastokin_version'])}, Exudyn "
-                 f"{esc(summary['exudyn_version'])}.")]
+    intro = [note(f"Config <code>{esc(summary['config_file'])}</code>"
+                  + (f", rig file <code>{esc(summary['rig_file'])}</code>"
+                     if summary.get("rig_file") else "")
+                  + f"; elastokin {esc(summary['elastokin_version'])}, Exudyn "
+                  f"{esc(summary['exudyn_version'])}.")]
     if summary.get("test_data_synthetic"):
-        head.append('<p class="synthetic"><b>The test data are synthetic</b>: the K&amp;C test '
-                    "files (and the CMM files) of this case study were made by <code>elastokin "
-                    "synthesize</code> from the config; the paper's measurements are not "
-                    "public (README, &ldquo;Case study data&rdquo;).</p>")
-    head.append("<nav><b>Contents</b><ol>" + "".join(
-        f'<li><a href="#{key}">{esc(HEADINGS[key])}</a></li>' for key, _ in sections)
-        + "</ol></nav></header>")
-    body = [section(key, k + 1, parts) for k, (key, parts) in enumerate(sections)]
-    path.write_text("".join(head + body) + _SCRIPT + "</body></html>\n", encoding="utf-8")
+        intro.append('<p class="synthetic"><b>The test data are synthetic</b>: the K&amp;C '
+                     "test files (and the CMM files) of this case study were made by <code>"
+                     "elastokin synthesize</code> from the config; the paper's measurements "
+                     "are not public (README, &ldquo;Case study data&rdquo;).</p>")
+    path.write_text(page(title, intro, [(key, HEADINGS[key], parts)
+                                        for key, parts in sections]), encoding="utf-8")
     return path
