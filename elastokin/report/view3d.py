@@ -48,7 +48,7 @@ PLOT_HEIGHT_PX = 680
 #: plotly.js's gl3d partial bundle, in elastokin/report/vendor (:func:`plotly_js`)
 PLOTLY_BUNDLE = "plotly-gl3d.min.js"
 #: the legend's top (fraction of the plot's height): below plotly's mode bar
-LEGEND_TOP = 0.955
+LEGEND_TOP = 0.93
 #: room around the parts in the view (mm)
 MARGIN_MM = 120.0
 DESIGN_NOTE = "the hardpoints as given (nothing solved); bushings at their initial deflection"
