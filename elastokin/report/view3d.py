@@ -205,7 +205,6 @@ def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
     for trace, recipe in zip(t.traces, t.recipes):
         if recipe is not None and not recipe.get("ghost") and recipe["model"] != models[0].label:
             trace["visible"] = False
-    lo, hi = first.extent_mm()
     tips = arrow_tips_mm(every, scale / 1e3)
     tips = tips[np.all(np.isfinite(tips), axis=1)]
     if len(tips):  # every arrow inside the box
