@@ -25,6 +25,9 @@ archive``; ``--baseline-rev none`` skips it): wall time ``fit_s``, CPU time of t
 and its workers ``fit_cpu_s``, model runs, and ``model_run_equivalents`` = fit CPU time / CPU
 time of one plain run of the test's load cases on the same model (same run, same machine).
 
+The sweep again with the static solver set up as before issue 28 (``ms_per_point_before_
+issue28``; the same results). ``--quick`` (the tests): the per-point figures only.
+
 Prints the figures and writes them to ``benchmarks/results/bench_kc.json``. Targets:
 ms_per_point <= 0.3 and at least 5x below ms_per_point_naive (issue 2); kc cold <= 10 s,
 warm <= 3 s, help <= 0.5 s, charts <= 1 s for the corner's 8 (issue 17) and <= 1.5 s with the
@@ -164,6 +167,25 @@ def fit_comparison(baseline_rev: str | None) -> dict:
     return result
 
 
+def sweep_before_issue28(model, z):
+    """The sweep with the static solver set up as before issue 28 (the discontinuous
+    iteration's five passes)."""
+    import elastokin.mbs.solve as solve
+
+    now = solve.simulation_settings
+
+    def before(m, steps):
+        ss = now(m, steps)
+        ss.staticSolver.discontinuous.maxIterations = 5
+        return ss
+
+    solve.simulation_settings = before
+    try:
+        return run_pad(model, pad_z_mm=z)
+    finally:
+        solve.simulation_settings = now
+
+
 def best_of(fn, repeat: int) -> tuple[float, object]:
     best, out = float("inf"), None
     for _ in range(repeat):
@@ -180,7 +202,11 @@ def main() -> None:
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_kc.json"))
     ap.add_argument("--baseline-rev", default=BASELINE_REV,
                     help="git revision whose stiffness fit is the baseline ('none': skip)")
+    ap.add_argument("--quick", action="store_true",
+                    help="the per-point figures only, one repeat (seconds; the tests run it)")
     args = ap.parse_args()
+    if args.quick:
+        args.repeat = min(args.repeat, 2)
 
     s = load_suspension(args.config)
     design = design_state(s)
@@ -192,13 +218,18 @@ def main() -> None:
     t_static, _ = best_of(lambda: run_pad(model, pad_loads=[s.up * s.design.wheel_load_N]),
                           args.repeat)
     t_sweep, tuned = best_of(lambda: run_pad(model, pad_z_mm=z), args.repeat)
+    t_before, before = best_of(lambda: sweep_before_issue28(model, z), args.repeat)
+    before_diff = float(np.max(np.abs(np.array([st.spin_axis for st in tuned])
+                                      - np.array([st.spin_axis for st in before]))))
 
     naive_s = dataclasses.replace(s, solver=s.solver.model_copy(
         update={"modified_newton": False}))
     naive_model = build_model(naive_s, ModelOptions(user_functions="python"), design)
-    t_naive, naive = best_of(lambda: run_pad(naive_model, pad_z_mm=z, solve_per_step=True),
-                             args.repeat)
-    toe = np.array([st.spin_axis for st in tuned])
+    naive_z = z[:20] if args.quick else z  # quick: the naive way's first 20 points
+    t_naive, naive = best_of(lambda: run_pad(naive_model, pad_z_mm=naive_z,
+                                             solve_per_step=True), args.repeat)
+    t_naive *= len(z) / len(naive_z)
+    toe = np.array([st.spin_axis for st in tuned])[:len(naive)]
     toe_naive = np.array([st.spin_axis for st in naive])
     max_diff = float(np.max(np.abs(toe - toe_naive)))
 
@@ -214,15 +245,19 @@ def main() -> None:
         "sweep_ms": 1e3 * t_sweep,
         "ms_per_point": 1e3 * t_sweep / n,
         "ms_per_point_naive": 1e3 * t_naive / n,
+        "ms_per_point_before_issue28": 1e3 * t_before / n,
+        "max_spin_axis_difference_before_issue28": before_diff,
         "speedup": t_naive / t_sweep,
         "max_spin_axis_difference_tuned_vs_naive": max_diff,
         "solver": model.solver_settings(),
         "targets": {"ms_per_point_max": 0.3, "speedup_min": 5.0},
     }
     result["meets_targets"] = bool(result["ms_per_point"] <= 0.3 and result["speedup"] >= 5.0)
-    result["end_to_end"] = end_to_end(args.config)
-    result["stiffness_fit"] = fit_comparison(None if args.baseline_rev == "none"
-                                             else args.baseline_rev)
+    result["quick"] = args.quick
+    if not args.quick:
+        result["end_to_end"] = end_to_end(args.config)
+        result["stiffness_fit"] = fit_comparison(None if args.baseline_rev == "none"
+                                                 else args.baseline_rev)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"model build        {result['build_ms']:8.2f} ms")
@@ -232,6 +267,12 @@ def main() -> None:
     print(f"naive sweep        {1e3 * t_naive:8.2f} ms  -> {result['ms_per_point_naive']:.3f} "
           f"ms/point; speed-up {result['speedup']:.1f}x (target >= 5)")
     print(f"tuned vs naive: max spin-axis difference {max_diff:.2e}")
+    print(f"before issue 28    {1e3 * t_before:8.2f} ms  -> "
+          f"{result['ms_per_point_before_issue28']:.3f} ms/point (the same results: max "
+          f"spin-axis difference {before_diff:.1e})")
+    if args.quick:
+        print(f"written to {args.out}")
+        return
     e = result["end_to_end"]
     print(f"elastokin --help    {e['help_s']:8.2f} s (target <= 0.5)")
     print(f"kc cold             {e['kc_cold_s']:8.2f} s (target <= 10; stiffness fit "

@@ -71,6 +71,13 @@ _API = {
     "run_kc_from_variants": "elastokin.studies.kc_job",
     "KCRun": "elastokin.studies.kc_job",
     "read_test_sweeps": "elastokin.formats.kc_test_sweeps",
+    # design to targets
+    "DesignVariable": "elastokin.config.design_variables",
+    "design_suspension": "elastokin.config.design_variables",
+    "load_targets": "elastokin.formats.targets",
+    "run_design": "elastokin.studies.design_runs",
+    "run_optimize": "elastokin.studies.design_job",
+    "sensitivity_table": "elastokin.studies.sensitivity_table",
     # the whole car
     "load_vehicle": "elastokin.config.vehicle",
     "run_vehicle": "elastokin.studies.vehicle_job",

@@ -7,6 +7,7 @@ from __future__ import annotations
 import click
 
 from elastokin.cli.adams import export_adams, import_adams
+from elastokin.cli.design import optimize, sensitivity
 from elastokin.cli.doe import doe
 from elastokin.cli.kc import identify, kc, synthesize
 from elastokin.cli.view import view
@@ -49,7 +50,8 @@ def main() -> None:
     """elastokin: suspension elastokinematics on Exudyn (units mm, N, N*mm, deg)."""
 
 
-for command in (kc, identify, synthesize, doe, import_adams, export_adams, view):
+for command in (kc, identify, synthesize, doe, optimize, sensitivity, import_adams,
+                export_adams, view):
     main.add_command(command)
 
 if __name__ == "__main__":  # pragma: no cover

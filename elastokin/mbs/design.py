@@ -9,6 +9,8 @@ variant with its design preloads. Units mm, N, N*mm; config frame.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from elastokin.config.suspension import Suspension
@@ -51,7 +53,24 @@ def balanced_springs(suspension: Suspension) -> tuple[str, ...]:
     return s.axle.balance_springs if s.axle is not None else (s.design.balance_spring,)
 
 
-def design_state(suspension: Suspension) -> DesignState:
+@dataclass
+class BalancingSolve:
+    """One solve of the design balancing (:func:`design_state` with ``record``): the pass
+    (0, or 1 after the stiff springs were relaxed), the model and its contact-patch supports
+    by side, the balanced springs' forces (N), the stiff springs' offsets (rad), whether the
+    idle spins were held, and the converged coordinates and multipliers."""
+
+    pass_index: int
+    model: SuspensionModel
+    supports: dict[str, str]
+    spring_force_N: np.ndarray
+    offsets: dict[str, np.ndarray]
+    idle: bool
+    coordinates: np.ndarray
+    multipliers: np.ndarray
+
+
+def design_state(suspension: Suspension, record: list | None = None) -> DesignState:
     """Spring and bushing preloads for the design position (see ``design`` in the config).
 
     With ``balance_bushing_preloads`` every bushing is held in its ideal joint's directions
@@ -60,7 +79,9 @@ def design_state(suspension: Suspension) -> DesignState:
     at which the contact patch carries the wheel load, a third the loads each bushing
     transmits at that P, which become the bushing preloads; the balance is solved again with
     the stiff springs relaxed at the rotations their torques caused. Otherwise the compliant
-    model is used and P found by the secant method.
+    model is used and P found by the secant method. ``record``: every balancing solve is
+    appended to it (:class:`BalancingSolve`; the design sensitivities,
+    :mod:`elastokin.mbs.design_tangents`).
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
     check_assembly(s)
@@ -87,6 +108,12 @@ def design_state(suspension: Suspension) -> DesignState:
                            "balancing the design position")[0]
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
         pads = np.array([0.0 + state.support_force_N[supports[side]][2] for side in s.sides])
+        if record is not None:
+            sd = model.mbs.systemData
+            record.append(BalancingSolve(
+                int(bool(offsets)), model, supports, np.asarray(p, float).copy(),
+                {k: v.copy() for k, v in offsets.items()}, idle[0],
+                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
         return pads, loads
 
     def balance():

@@ -68,7 +68,10 @@ class SuspensionModel:
     springs' own preloads and the bushings' initial deflections); ``friction``: ball-joint
     friction; ``balancing``: every bushing held by its ideal joint with its loads read back
     (:func:`elastokin.mbs.design.design_state` only), ``balancing_offsets`` the rotations
-    (rad, bushing frame) at which its stiff rotational springs carry no torque. Build it
+    (rad, bushing frame) at which its stiff rotational springs carry no torque;
+    ``references``: the parts' reference positions (default: each part's centre of mass or
+    the mean of its points), so that two models of nearby geometries share their
+    coordinates' meaning. Build it
     once, attach supports and loads, then solve as often as needed
     (:mod:`elastokin.mbs.solve`): every solve restarts from the design position.
     """
@@ -76,8 +79,13 @@ class SuspensionModel:
     def __init__(self, suspension: Suspension, options: ModelOptions = ModelOptions(),
                  preloads: DesignState | None = None, friction_spec: BallJointFriction | None
                  = None, balancing: bool = False,
-                 balancing_offsets: Mapping[str, np.ndarray] | None = None):
+                 balancing_offsets: Mapping[str, np.ndarray] | None = None,
+                 references: Mapping[str, np.ndarray] | None = None):
         self.suspension = suspension
+        #: the parts' (and rig bodies') reference positions, when given: those of another
+        #: model of the same parts (a design sensitivity's twin, :mod:`elastokin.mbs.twins`;
+        #: that model's own mapping, so that rig bodies it gets later are shared too)
+        self.references = references if references is not None else {}
         self.options = options
         self.balancing = balancing
         self.balancing_offsets = dict(balancing_offsets or {})
@@ -182,6 +190,7 @@ class SuspensionModel:
                     part.centre_of_mass, str) else part.centre_of_mass, float)
             else:
                 ref = np.mean(points[name], axis=0)
+            ref = np.asarray(self.references.get(name, ref), float)
             self.ref[name] = ref
             mass_t = (part.mass_kg or 1.0) * 1e-3  # tonne in the mm-N-s system
             self.body[name] = mbs.CreateRigidBody(
@@ -223,7 +232,7 @@ class SuspensionModel:
         0); supports and loads of parts can act against it (``base``). Returns ``name``."""
         if name in self.rig_bodies:
             raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
-        ref = np.asarray(point_mm, float)
+        ref = np.asarray(self.references.get(name, point_mm), float)
         self.ref[name] = ref
         self.rig_bodies[name] = self.mbs.CreateRigidBody(
             referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),

@@ -139,7 +139,7 @@ def colour_classes(rows: list[tuple[np.ndarray, set[str]]], parts: Sequence[str]
     return classes
 
 
-class _Recorder:
+class Recorder:
     """Every solved (sub-)step's time, coordinates and multipliers (a post-step function)."""
 
     def __init__(self):
@@ -162,24 +162,30 @@ def solve_path_with_sensitivities(model: SuspensionModel, inputs: Mapping[str, n
     """:func:`~elastokin.mbs.solve.solve_path`, each returned state carrying its
     ``sensitivity`` with respect to each of ``variations`` (module docstring). The model's
     parametric bushings are at their current laws (the point p). Friction is refused."""
-    if model.friction or model.substeps != 1:
-        raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
-    recorder = _Recorder()
-    model.mbs.SetPostStepUserFunction(recorder)
-    try:
-        states = solve_path(model, inputs, what)
-    finally:
-        model.mbs.SetPostStepUserFunction(0)
+    states, steps = recorded_solve(model, inputs, what)
     if not variations:
         return states
-    n = len(states)
-    steps = recorder.at(np.linspace(0.0, 1.0, n + 1)[1:])
     dy = _step_sensitivities(model, steps, variations, what)
     n2 = model.mbs.systemData.ODE2Size()
     q = np.array([step[1] for step in steps])
     for state, out in zip(states, _outputs(model, q, dy[:, :n2])):
         state.sensitivity = out
     return states
+
+
+def recorded_solve(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: str
+                   ) -> tuple[list[ModelState], list[tuple[float, np.ndarray, np.ndarray]]]:
+    """:func:`~elastokin.mbs.solve.solve_path` and every returned step's converged (time,
+    coordinates, multipliers), for sensitivities; a model with friction is refused."""
+    if model.friction or model.substeps != 1:
+        raise ModelError(f"{model.suspension.source}: sensitivities need a frictionless model")
+    recorder = Recorder()
+    model.mbs.SetPostStepUserFunction(recorder)
+    try:
+        states = solve_path(model, inputs, what)
+    finally:
+        model.mbs.SetPostStepUserFunction(0)
+    return states, recorder.at(np.linspace(0.0, 1.0, len(states) + 1)[1:])
 
 
 def _outputs(model, q: np.ndarray, dq: np.ndarray) -> list[StateSensitivity]:
@@ -199,7 +205,7 @@ def _outputs(model, q: np.ndarray, dq: np.ndarray) -> list[StateSensitivity]:
             for j in range(q.shape[0])]
 
 
-class _Residual:
+class Residual:
     """Exudyn's static residual at given states of ``model``, and the structure of its
     Jacobian: the perturbations of the forward differences (one per colour class and
     coordinate direction) and where each lands (rows, column)."""
@@ -246,19 +252,24 @@ class _Residual:
 
 def _step_sensitivities(model, steps, variations, what) -> np.ndarray:
     """(n_steps, n2 + n_ae, n_p): dy/dp at every recorded step."""
-    res = _Residual(model, len(steps), what)
+    res = Residual(model, len(steps), what)
     try:
-        A, r0 = _system_matrices(res, steps)
+        A, r0 = system_matrices(res, steps)
         B = _parameter_derivatives(res, model, steps, variations, r0)
     finally:
         res.close()
-    # equilibrated solve: rows and columns of mixed units (N, N*mm, mm, rad)
+    return solve_tangents(A, B)
+
+
+def solve_tangents(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """dy/dp = -A^-1 B at every step (A (n_steps, N, N) = dR/dy, B (n_steps, N, n_p) =
+    dR/dp), equilibrated: rows and columns of mixed units (N, N*mm, mm, rad)."""
     r = 1.0 / np.maximum(np.max(np.abs(A), axis=2, keepdims=True), 1e-300)
     c = 1.0 / np.maximum(np.max(np.abs(A * r), axis=1, keepdims=True), 1e-300)
     return -c.transpose(0, 2, 1) * np.linalg.solve(A * r * c, B * r)
 
 
-def _system_matrices(res: _Residual, steps) -> tuple[np.ndarray, np.ndarray]:
+def system_matrices(res: Residual, steps) -> tuple[np.ndarray, np.ndarray]:
     """dR/dy (n_steps, N, N) at every step and the residual there (n_steps, N): the
     coordinates' columns by central differences (the joints' rows with them); the
     multipliers' columns their transpose (the residual is C_q^T lam + ..., checked against
@@ -295,7 +306,7 @@ def _system_matrices(res: _Residual, steps) -> tuple[np.ndarray, np.ndarray]:
     return A, r0
 
 
-def _parameter_derivatives(res: _Residual, model, steps, variations, r0) -> np.ndarray:
+def _parameter_derivatives(res: Residual, model, steps, variations, r0) -> np.ndarray:
     """(n_steps, N, n_p): dR/dp by forward differences of the residual at every step."""
     n2, coords = res.n2, res.coords
     base = model.bushing_law_values()

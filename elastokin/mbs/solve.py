@@ -41,6 +41,13 @@ def simulation_settings(model: SuspensionModel, steps: int):
     st.newton.absoluteTolerance = model.absolute_tolerance
     st.newton.maxIterations = sv.max_newton_iterations
     ss.linearSolver.solverType = exu.LinearSolverType.EigenDense
+    # work Exudyn does for nothing here (issue 28, item 6; the Newton iterates, hence every
+    # result, bit for bit the same): more than one pass of the discontinuous iteration (no
+    # item of a frictionless model acts after a Newton step). (The loads' Jacobian is not
+    # nothing: a force at a point of a turning part has one; leaving it out changed the force
+    # cases at 1e-7.)
+    if not model.friction:
+        st.discontinuous.maxIterations = 1
     return ss
 
 
@@ -114,16 +121,16 @@ def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: s
         inputs = {name: np.vstack([first[name], v]) for name, v in inputs.items()}
         n += 1
     ts = np.linspace(0.0, 1.0, n + 1)
-    applied = _set_paths(model, inputs, ts, n)
+    applied = set_attachment_paths(model, inputs, ts, n)
     if model.load_recorder is not None:
         model.load_recorder.update()  # sensors of attachments added since the last solve
     rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
-    states = [_state(model, row, {k: v[i] for k, v in applied.items()})
+    states = [model_state(model, row, {k: v[i] for k, v in applied.items()})
               for i, row in enumerate(rows)]
     return states[1:] if settling else states
 
 
-def _set_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
+def set_attachment_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int) -> dict:
     """Every attachment's path over ``ts``: every path starts from the design state at t = 0
     (support offset 0, loads at the first step's value). Returns the loads' values per step."""
     model.keep_alive.clear()
@@ -222,29 +229,43 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
     loads = None
     if model.load_recorder is not None and idx.size:  # from the sensors as stored
         loads = model.load_recorder.tables(data, idx)
-    for name in model.bushings:  # bushing deflection: mm and deg in one 6-vector
-        data[f"bushing:{name}:u"] = np.concatenate(
-            [data.pop(f"bushing:{name}:d")[:, 1:], data.pop(f"bushing:{name}:r")[:, 1:] / DEG],
-            axis=1)
-        data[f"bushing:{name}:load"] = np.concatenate(
-            [data.pop(f"bushing:{name}:f")[:, 1:], data.pop(f"bushing:{name}:t")[:, 1:]],
-            axis=1)
-    for part, line in model.node_lines.items():  # a beam's nodes: one array each per step
-        design = np.array([model.beams[part].frames[n] for n in line])
-        R = np.stack([data.pop(f"part:node:{n}:R")[:, 1:] for n in line], axis=1)
-        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
-        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")[:, 1:]
-                                                for n in line], axis=1)
-    picked = {k: (v[idx] if k.endswith((":u", ":load", ":node_R", ":node_x")) else v[idx, 1:])
-              for k, v in data.items() if not k.startswith(("load:", "part:node:"))}
+    picked = combined_sensors({k: v[idx, 1:] for k, v in data.items()
+                               if not k.startswith("load:")}, model)
     rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
     for i, row in enumerate(rows):
         row["loads"] = None if loads is None else loads.step(i)
     return rows
 
 
-def _state(model: SuspensionModel, row: dict[str, np.ndarray],
-           applied: dict[str, np.ndarray]) -> ModelState:
+def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
+                     ) -> dict[str, np.ndarray]:
+    """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
+    6-vector per step (bushings whose sensors were not read are left out), and each beam
+    part's node positions (steps, m, 3) and rotations from their design frames (steps, m, 3,
+    3) in one array each (``beam:<part>:node_x``, ``beam:<part>:node_R``)."""
+    for name in model.bushings:
+        if f"bushing:{name}:d" not in data:
+            continue
+        data[f"bushing:{name}:u"] = np.concatenate(
+            [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
+        data[f"bushing:{name}:load"] = np.concatenate(
+            [data.pop(f"bushing:{name}:f"), data.pop(f"bushing:{name}:t")], axis=1)
+    for part, line in model.node_lines.items():
+        if f"part:node:{line[0]}:R" not in data:
+            continue
+        design = np.array([model.beams[part].frames[n] for n in line])
+        R = np.stack([data.pop(f"part:node:{n}:R") for n in line], axis=1)
+        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
+        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")
+                                                for n in line], axis=1)
+    return data
+
+
+def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
+                applied: dict[str, np.ndarray]) -> ModelState:
+    """The model's state from one row of its sensors' values (:func:`recorded`) and the
+    loads applied at that step (bushings without values in the
+    row left out)."""
     springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
     # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
@@ -254,6 +275,8 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
         scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
     defl, load = {}, {}
     for name, e in model.bushings.items():
+        if f"bushing:{name}:u" not in row:
+            continue
         u = row[f"bushing:{name}:u"]
         if e.get("ideal") is None:
             u = u + model.initial_deflection[name]
@@ -263,10 +286,44 @@ def _state(model: SuspensionModel, row: dict[str, np.ndarray],
         defl[name], load[name] = u, f
     poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
-    for part in model.node_lines:  # rotations from the nodes' design frames (recorded())
-        poses.node_mm[part] = row[f"beam:{part}:node_x"]
-        poses.node_rotation[part] = row[f"beam:{part}:node_R"]
+    for part in model.node_lines:  # combined_sensors: rotations from the design frames
+        if f"beam:{part}:node_x" in row:
+            poses.node_mm[part] = row[f"beam:{part}:node_x"]
+            poses.node_rotation[part] = row[f"beam:{part}:node_R"]
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
-                      loads=row["loads"])
+                      loads=row.get("loads"))
+
+
+def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
+                 applied: dict[str, np.ndarray]) -> dict[str, object]:
+    """:func:`model_state` over many steps at once: from sensor values (steps, k) (bushings
+    combined, :func:`combined_sensors`) and the loads applied (steps, 3), the fields of a
+    :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
+    part (rotation (n, 3, 3), displacement (n, 3)))."""
+    scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    if model.anti_roll_bar is not None:
+        scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
+        scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]
+    defl, load = {}, {}
+    for name, e in model.bushings.items():
+        if f"bushing:{name}:u" not in data:
+            continue
+        u = data[f"bushing:{name}:u"]
+        if e.get("ideal") is None:
+            defl[name], load[name] = u + model.initial_deflection[name], \
+                data[f"bushing:{name}:load"]
+        else:
+            defl[name], load[name] = u, np.full(u.shape, np.nan)
+    return {
+        "spring_force_N": {n: -data[f"spring:{n}"][:, 0] for n in model.springs},
+        "bushing_deflection": defl, "bushing_load": load, "scalars": scalars,
+        "poses": {n: (data[f"part:{n}:R"].reshape(-1, 3, 3), data[f"part:{n}:disp"])
+                  for n in model.pose_refs},
+        "reference_mm": model.pose_refs,
+        "support_force_N": {n: data[f"support:{n}"] for n in model.supports},
+        "points": {k.removeprefix("point:"): v for k, v in data.items()
+                   if k.startswith("point:")},
+        "applied": applied,
+    }

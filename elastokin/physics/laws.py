@@ -17,6 +17,7 @@ parameters and evaluated exactly (no tabulation).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -82,12 +83,19 @@ class DirectionLaw:
 
     def deflection_at(self, load):
         """Inverse law: deflection (mm or deg) at ``load`` (N or N*mm)."""
-        return DirectionLaw(self.load, self.deflection)(load)
+        return self.inverse(load)
+
+    @functools.cached_property
+    def inverse(self) -> DirectionLaw:
+        """The inverse law, load -> deflection (made once per law)."""
+        return DirectionLaw(self.load, self.deflection)
 
     def scaled(self, factor: float) -> DirectionLaw:
         """The same curve with every load multiplied by ``factor`` (> 0)."""
         if not factor > 0:
             raise ValueError(f"scale factor must be positive, got {factor}")
+        if factor == 1.0:  # the same numbers: no new (validated) curve
+            return self
         return DirectionLaw(self.deflection, tuple(factor * x for x in self.load))
 
     def hinges(self) -> tuple[float, float, list[tuple[float, float]]]:
@@ -189,9 +197,21 @@ class ProgressiveLaw:
 
 def law_from_spec(spec) -> DirectionLaw:
     """A law from a config entry: a positive number (rate), or ``deflection`` and ``load``
-    lists (an object's attributes, or a mapping's keys as in a config dict)."""
+    lists (an object's attributes, or a mapping's keys as in a config dict). Laws are
+    immutable: one made from the same numbers before is returned again (a config resolved
+    again for every design variable makes the same laws)."""
     if isinstance(spec, (int, float)):
-        return DirectionLaw.linear(float(spec))
+        return _linear(float(spec))
     if isinstance(spec, Mapping):
-        return DirectionLaw(tuple(spec["deflection"]), tuple(spec["load"]))
-    return DirectionLaw(tuple(spec.deflection), tuple(spec.load))
+        return _curve(tuple(spec["deflection"]), tuple(spec["load"]))
+    return _curve(tuple(spec.deflection), tuple(spec.load))
+
+
+@functools.lru_cache(maxsize=4096)
+def _linear(rate: float) -> DirectionLaw:
+    return DirectionLaw.linear(rate)
+
+
+@functools.lru_cache(maxsize=4096)
+def _curve(deflection: tuple, load: tuple) -> DirectionLaw:
+    return DirectionLaw(deflection, load)

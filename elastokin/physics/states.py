@@ -192,3 +192,78 @@ class StepState:
     sensitivity: dict[str, np.ndarray] | None = None
     scalars: dict[str, float] = field(default_factory=dict)  # see ModelState.scalars
     loads: LoadTable | None = None  # the whole model's, see ModelState.loads
+
+
+
+@dataclass
+class WheelArrays:
+    """One wheel's rig steps as arrays over the steps (the fields of :class:`StepState`,
+    first axis the step): what the rig's post-processing reads, without an object per step
+    (the design sensitivities' twin states). ``poses``: per part (rotation (n, 3, 3),
+    displacement (n, 3)) with ``reference_mm``, or None."""
+
+    wheel_centre_mm: np.ndarray
+    spin_axis: np.ndarray
+    wheel_rotation: np.ndarray
+    contact_patch_mm: np.ndarray
+    pad_force_N: np.ndarray
+    spring_force_N: dict[str, np.ndarray] = field(default_factory=dict)
+    bushing_deflection: dict[str, np.ndarray] = field(default_factory=dict)
+    bushing_load: dict[str, np.ndarray] = field(default_factory=dict)
+    scalars: dict[str, np.ndarray] = field(default_factory=dict)
+    poses: dict[str, tuple[np.ndarray, np.ndarray]] | None = None
+    reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, states, poses: bool = False) -> WheelArrays:
+        """The arrays of a list of :class:`StepState` (a WheelArrays is returned as is); the
+        parts' poses only with ``poses``."""
+        if isinstance(states, WheelArrays):
+            return states
+        first = states[0]
+        poses = None if not poses else poses
+        if poses and first.poses is not None:
+            poses = {p: (np.array([st.poses.rotation[p] for st in states]),
+                         np.array([st.poses.displacement_mm[p] for st in states]))
+                     for p in first.poses.rotation}
+        return cls(np.array([st.wheel_centre_mm for st in states]),
+                   np.array([st.spin_axis for st in states]),
+                   np.array([st.wheel_rotation for st in states]),
+                   np.array([st.contact_patch_mm for st in states]),
+                   np.array([st.pad_force_N for st in states]),
+                   {k: np.array([st.spring_force_N[k] for st in states])
+                    for k in first.spring_force_N},
+                   {k: np.array([st.bushing_deflection[k] for st in states])
+                    for k in first.bushing_deflection},
+                   {k: np.array([st.bushing_load[k] for st in states])
+                    for k in first.bushing_load},
+                   {k: np.array([st.scalars[k] for st in states]) for k in first.scalars},
+                   poses or None, dict(first.poses.reference_mm) if poses else {})
+
+    def __len__(self) -> int:
+        return len(self.wheel_centre_mm)
+
+    def rows(self, index) -> WheelArrays:
+        """The steps ``index`` (indices or a mask)."""
+        def pick(d):
+            return {k: v[index] for k, v in d.items()}
+
+        poses = None if self.poses is None else {p: (r[index], d[index])
+                                                 for p, (r, d) in self.poses.items()}
+        return WheelArrays(self.wheel_centre_mm[index], self.spin_axis[index],
+                           self.wheel_rotation[index], self.contact_patch_mm[index],
+                           self.pad_force_N[index], pick(self.spring_force_N),
+                           pick(self.bushing_deflection), pick(self.bushing_load),
+                           pick(self.scalars), poses, self.reference_mm)
+
+    def step(self, i: int) -> StepState:
+        """Step ``i`` as a :class:`StepState`."""
+        poses = None if self.poses is None else PartPoses(
+            {p: r[i] for p, (r, _) in self.poses.items()},
+            {p: d[i] for p, (_, d) in self.poses.items()}, self.reference_mm)
+        return StepState(self.wheel_centre_mm[i], self.spin_axis[i], self.wheel_rotation[i],
+                         self.contact_patch_mm[i], self.pad_force_N[i],
+                         {k: v[i] for k, v in self.spring_force_N.items()},
+                         {k: v[i] for k, v in self.bushing_deflection.items()},
+                         {k: v[i] for k, v in self.bushing_load.items()}, poses,
+                         scalars={k: v[i] for k, v in self.scalars.items()})

@@ -245,3 +245,34 @@ def motion_table(doc: dict) -> str:
     if doc["warnings"]:
         out += ["", "Warnings:"] + [f"  - {w}" for w in doc["warnings"]]
     return "\n".join(out) + "\n"
+
+
+def design_table(result) -> str:
+    """A design study's outcome: each variable's move, each target before and after, and
+    what binds when the targets cannot all be met."""
+    lines = [("Every target met" if result.met else
+              "The targets cannot all be met: the best point found is written")
+             + f" (model {result.label}, {result.model_runs} model runs with derivatives, "
+             f"{result.seconds:.1f} s; optimiser: {result.message})", "",
+             f"  {'variable':<36}{'start':>12}{'optimised':>12}{'moved':>10}  unit"]
+    for v, a, b in zip(result.variables, result.start.values, result.best.values):
+        lines.append(f"  {v.name:<36}{a:>12.4f}{b:>12.4f}{b - a:>+10.4f}  {v.unit}")
+    lines += ["", f"  {'target':<36}{'start':>12}{'optimised':>12}  asked"]
+    for a, b in zip(result.start_values.rows, result.best_values.rows):
+        mark = "" if b.met else f"  MISSED by {b.miss:.3g}"
+        lines.append(f"  {a.name:<36}{a.value:>12.5g}{b.value:>12.5g}  {b.asked} "
+                     f"{b.unit}{mark}")
+    if result.binding:
+        lines += ["", "What binds:"] + [f"  - {b}" for b in result.binding]
+    return "\n".join(lines)
+
+
+def sensitivity_text(tab, top: int = 5) -> str:
+    """The largest effects per mm of a hardpoint sensitivity table, per characteristic."""
+    lines = [f"Hardpoint sensitivity, model {tab.label}: {len(tab.variables)} coordinates, "
+             f"{len(tab.characteristics)} characteristics ({tab.seconds:.1f} s); the {top} "
+             "largest effects per mm:"]
+    for j, name in enumerate(tab.characteristics):
+        ranked = ", ".join(f"{v.name} {e:+.3g}" for v, e in tab.ranked(name)[:top])
+        lines.append(f"  {name} ({tab.values[j]:.4g}): {ranked}")
+    return "\n".join(lines)

@@ -17,7 +17,7 @@ from elastokin.physics.axle_sweeps import roll_angle_deg, roll_moment_Nmm, track
 from elastokin.physics.instant_centres import kinematic_roll_centre
 from elastokin.physics.roll_motion import roll_motion
 from elastokin.physics.skeleton import SkeletonElement
-from elastokin.physics.states import StepState
+from elastokin.physics.states import StepState, WheelArrays
 from elastokin.rig.steering import joint_elements
 
 
@@ -35,7 +35,8 @@ def design_track_mm(suspension: Suspension) -> float:
     return abs(float(track_mm(patch["left"], patch["right"])))
 
 
-def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, drive
+def axle_columns(by_side: dict[str, list[StepState] | WheelArrays], suspension: Suspension,
+                 drive
                  ) -> dict[str, np.ndarray]:
     """The axle's columns of one load case (the same in every wheel's sweep):
     ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
@@ -47,29 +48,30 @@ def axle_columns(by_side: dict[str, list[StepState]], suspension: Suspension, dr
     the axle's roll motion at each step (:func:`roll_contact_velocities`)."""
     s = suspension
     T = iso_rotation(s)
-    patch = {side: np.array([st.contact_patch_mm for st in by_side[side]]) @ T.T
-             for side in ("left", "right")}
-    centre = {side: np.array([st.wheel_centre_mm for st in by_side[side]]) @ T.T
-              for side in ("left", "right")}
+    wheel = {side: WheelArrays.of(by_side[side]) for side in ("left", "right")}
+    patch = {side: a.contact_patch_mm @ T.T for side, a in wheel.items()}
+    centre = {side: a.wheel_centre_mm @ T.T for side, a in wheel.items()}
     design_centre = {side: T @ s.wheels[side].centre_mm for side in ("left", "right")}
     travel = {side: centre[side][:, 2] - design_centre[side][2] for side in centre}
     track = design_track_mm(s)
-    fz = {side: np.array([(T @ st.pad_force_N)[2] for st in by_side[side]])
-          for side in ("left", "right")}
+    fz = {side: np.array([(T @ f)[2] for f in a.pad_force_N]) for side, a in wheel.items()}
     cols = {"roll_angle_deg": roll_angle_deg(travel["left"], travel["right"], track),
             "roll_moment_Nmm": roll_moment_Nmm(fz["left"], fz["right"], patch["left"][:, 1],
                                                patch["right"][:, 1])}
-    first = by_side[s.side]
-    if "arb:twist_deg" in first[0].scalars:
-        cols["arb_twist_deg"] = np.array([st.scalars["arb:twist_deg"] for st in first])
-        cols["arb_torque_Nmm"] = np.array([st.scalars["arb:torque_Nmm"] for st in first])
+    first = wheel[s.side]
+    if "arb:twist_deg" in first.scalars:
+        cols["arb_twist_deg"] = first.scalars["arb:twist_deg"]
+        cols["arb_torque_Nmm"] = first.scalars["arb:torque_Nmm"]
     # the kinematic roll centre from the wheels' motion in bump, or on an axle joined by a
     # flexible beam (a twist beam, whose elasticity sets the motion in roll) in roll, or on
     # a dependent axle (a solid axle) from its roll motion at each step of parallel travel
     in_roll = bool(s.shared_beams)
     if drive.load_case == ("opposite_travel" if in_roll else "parallel_travel"):
         if not in_roll and dependent_axle(s):
-            velocity = roll_contact_velocities(first, s)
+            steps = by_side[s.side]
+            if isinstance(steps, WheelArrays):
+                steps = [steps.step(i) for i in range(len(steps))]
+            velocity = roll_contact_velocities(steps, s)
             rc = kinematic_roll_centre(patch["left"], velocity["left"] @ T.T, patch["right"],
                                        velocity["right"] @ T.T)
             cols.update({"roll_centre_height_mm": rc.height_mm,

@@ -295,8 +295,7 @@ LOAD_CASE_LIST = (
              "one wheel moved, the other held at its design height (displacement control)",
              ("toe",), vertical=True, corner=False),
     LoadCase("roll_vertical_force", "roll_angle_deg", "roll angle [deg] (+ body's left up)",
-             "body roll at constant total vertical load", ("toe",), vertical=True,
-             corner=False),
+             "body roll at constant total vertical load", ("toe",), vertical=True, corner=False),
     LoadCase("steering", "steering_wheel_angle_deg", "steering-wheel angle [deg]",
              "steering lock to lock, wheels at the design load", ("toe",), vertical=True,
              corner=False),
@@ -351,6 +350,8 @@ CHARACTERISTIC_LIST = (
                    "stroke (toe interpolated on an even travel grid)",
                    "parallel_travel", "wheel_travel_mm", "toe_deg", 1000.0,
                    (-BUMP_STEER_WINDOW_MM, BUMP_STEER_WINDOW_MM)),
+    Characteristic("bump_steer_at_design_deg_per_m", "bump steer at design", "deg/m", ".3f",
+                   "toe vs wheel travel's slope at the static state (central differences)"),
     Characteristic("bump_camber_deg_per_m", "bump camber", "deg/m", ".3f",
                    "least-squares slope of camber vs wheel travel over the measured stroke "
                    "(loading and unloading)",

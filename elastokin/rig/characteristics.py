@@ -13,7 +13,7 @@ import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.physics.axle_sweeps import wheelbase_change_mm
-from elastokin.physics.states import StepState
+from elastokin.physics.states import StepState, WheelArrays
 from elastokin.physics.steering_geometry import track_change_mm
 from elastokin.physics.wheel import camber_deg, slope, toe_deg, windowed_slope
 from elastokin.rig.axle_channels import iso_rotation
@@ -77,21 +77,23 @@ def steer_sign(side: str) -> float:
     return -1.0 if side == "left" else 1.0
 
 
-def characteristics(states: list[StepState], suspension: Suspension,
-                    design: StepState | None = None) -> dict[str, np.ndarray]:
-    """Per-step columns (kc.csv name -> array) from solved rig steps."""
+def characteristics(states: list[StepState] | WheelArrays, suspension: Suspension,
+                    design: StepState | None = None, steering_rows: np.ndarray | None = None
+                    ) -> dict[str, np.ndarray]:
+    """Per-step columns (kc.csv name -> array) from solved rig steps (a list, or their
+    :class:`~elastokin.physics.states.WheelArrays`); ``steering_rows``: the steps whose
+    steering-axis columns are computed (default all; the others NaN)."""
     s = suspension
+    a = WheelArrays.of(states)
     centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
-    centre = np.array([st.wheel_centre_mm for st in states])
-    spin = np.array([st.spin_axis for st in states])
-    pad = np.array([st.pad_force_N for st in states])
-    cols = wheel_columns(centre, spin, s, centre0)
+    pad = a.pad_force_N
+    cols = wheel_columns(a.wheel_centre_mm, a.spin_axis, s, centre0)
     cols.update({
         "contact_patch_fx_N": pad[:, 0],
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
     })
-    patch = np.array([st.contact_patch_mm for st in states])
+    patch = a.contact_patch_mm
     position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle is not None \
         else "front"
     cols["track_change_mm"] = track_change_mm(patch, s.wheel.contact_patch_mm, s.outboard)
@@ -101,21 +103,39 @@ def characteristics(states: list[StepState], suspension: Suspension,
     # steer angle: toe change from the design position, + turning the wheel to the left
     toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
     cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * steer_sign(s.side)
-    if states[0].poses is not None:  # models that record the wheel part only: none
-        cols.update(steering_axis_columns(states, s))
+    recorded = a.poses is not None if isinstance(states, WheelArrays) else \
+        states[0].poses is not None
+    if recorded:  # models that record the wheel part only: none
+        cols.update(_steering_columns(states, a, s, steering_rows))
     mine = own_items(s)
-    for name in states[0].spring_force_N:
+    for name, force in a.spring_force_N.items():
         if mine(name):
-            cols[spring_column(name)] = np.array([st.spring_force_N[name] for st in states])
-    for name in states[0].bushing_deflection:
+            cols[spring_column(name)] = force
+    for name, u in a.bushing_deflection.items():
         if mine(name):
-            u = np.array([st.bushing_deflection[name] for st in states])
             for i, col in enumerate(bushing_columns(name)):
                 cols[col] = u[:, i]
-    for key in states[0].scalars:
+    for key, value in a.scalars.items():
         if key.startswith("stop:") and mine(key[5:]):
-            cols[stop_column(key[5:])] = np.array([st.scalars[key] for st in states])
+            cols[stop_column(key[5:])] = value
     return cols
+
+
+def _steering_columns(states, a: WheelArrays, s: Suspension, rows) -> dict[str, np.ndarray]:
+    """The steering-axis columns at every step, or at ``rows`` only (NaN elsewhere)."""
+    if rows is None:
+        steps = states if not isinstance(states, WheelArrays) else \
+            [a.step(i) for i in range(len(a))]
+        return steering_axis_columns(steps, s)
+    rows = np.asarray(rows, int)
+    steps = [states[i] if not isinstance(states, WheelArrays) else a.step(i) for i in rows]
+    some = steering_axis_columns(steps, s) if rows.size else {}
+    out = {}
+    for name in STEERING_AXIS_COLUMNS:
+        out[name] = np.full(len(a), np.nan)
+        if rows.size:
+            out[name][rows] = some[name]
+    return out
 
 
 def own_items(suspension: Suspension):
@@ -166,6 +186,21 @@ def determined(value) -> float | None:
     return None if value is None or not np.isfinite(value) else float(value)
 
 
+def bump_steer_at_design_deg_per_m(sweep: Sweep) -> float | None:
+    """Toe change per wheel travel at the static state (deg/m): the stroke's slope by
+    central differences (``np.gradient`` on its uneven travel), read where the pad is at its
+    design height as :func:`~elastokin.rig.sweeps.static_row_value` reads a column."""
+    travel, toe = sweep.stroke("wheel_travel_mm"), sweep.stroke("toe_deg")
+    if travel.size < 3 or "pad_z_mm" not in sweep.columns:
+        return None
+    slope = np.gradient(toe, travel)
+    stroke = Sweep(sweep.model, sweep.load_case, {
+        "branch": np.full(travel.size, "stroke"), "pad_z_mm": sweep.stroke("pad_z_mm"),
+        "slope": slope})
+    value = static_row_value(stroke, "slope")
+    return None if value is None else 1000.0 * value
+
+
 def measured(sweep: Sweep, name: str) -> np.ndarray:
     """``name`` on the measured rows of a sweep: every branch but the ``approach`` from the
     design position to the start of the measured stroke (or to the first force)."""
@@ -183,7 +218,10 @@ def summary_figures(sweeps: list[Sweep], kinematic: bool,
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
            "bump_steer_deg_per_m": determined(bump_steer_deg_per_m(travel)) if has_toe
-           else None, "kinematic": kinematic}
+           else None,
+           "bump_steer_at_design_deg_per_m":
+               determined(bump_steer_at_design_deg_per_m(travel)) if has_toe else None,
+           "kinematic": kinematic}
     for name in STEERING_AXIS_COLUMNS:
         out[name] = static_row_value(travel, name) if travel is not None else None
     for name, g in GRADIENTS.items():

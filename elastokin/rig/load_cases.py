@@ -25,7 +25,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
-from elastokin.physics.states import LoadTable, PoseSeries
+from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
 from elastokin.rig.characteristics import (
@@ -43,7 +43,7 @@ from elastokin.rig.drives import (
 )
 from elastokin.rig.pad import WheelInputs, run_pad, run_rig
 from elastokin.rig.paths import travel_path
-from elastokin.rig.sweeps import Sweep
+from elastokin.rig.sweeps import Sweep, static_rows
 
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
            "force_sweep", "parallel_travel", "parallel_travel_drive", "run_drive",
@@ -52,55 +52,114 @@ __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive"
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
-    from elastokin.physics.states import StepState
 
 
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
-                    variations: Sequence | None = None) -> list[Sweep]:
+                    variations: Sequence | None = None, twins: Sequence | None = None,
+                    detail: str = "full") -> list[Sweep]:
     """The sweeps of ``drive`` on ``model``, one per wheel (the config side's first; the
     pads attached when they are not yet); with ``variations`` (parameters of the model's
     parametric bushings, :class:`~elastokin.mbs.sensitivity.LawVariation`) every sweep
-    carries the tangents of its wheel's columns (``Sweep.tangents``)."""
+    carries the tangents of its wheel's columns (``Sweep.tangents``); with ``twins`` (per
+    design variable a :class:`~elastokin.mbs.twins.TwinPair` and, by sign, the same load
+    case's drive on that twin's suspension: :func:`twin_drives`) the tangents of every
+    column (``Sweep.tangents``: column -> (steps, variables)); ``detail``: ``full`` (every
+    column at every step) or ``summary`` (what the summary figures read: no bushing
+    columns, the steering axis at the static state only; the others NaN)."""
     s = model.suspension
     rig = s.rig_source
     what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
+    twins = list(twins or ())
     if drive.load_case == "steering":
-        drive = left_turning(model, drive, what)
+        drive, mirrored = left_turning(model, drive, what)
+        twins = [(pair, {sign: mirrored_rack(d, pair.models()[0 if sign > 0 else 1][1])
+                         if mirrored else d for sign, d in per_sign.items()})
+                 for pair, per_sign in twins]
+    rig_twins = [(pair, {sign: (d.wheels, d.rack_travel_mm, d.heave_load_N)
+                         for sign, d in per_sign.items()}) for pair, per_sign in twins]
     steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
-                    variations=variations)
-    cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
-    own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
+                    variations=variations, twins=rig_twins, bushings=detail == "full")
     keep = drive.recorded
+    design = steps.design
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
-        cols = {k: v[keep] for k, v in cols.items()}
-        own = {k: v[keep] for k, v in own.items()}
-    by_side = {side: [st[side] for st in steps] for side in s.sides}
-    first = by_side[s.side]
+    columns = sweep_columns({side: [st[side] for st in steps] for side in s.sides}, s, drive)
+    rows = None if detail == "full" else static_rows(columns[s.side])
+    tangents = {side: {} for side in s.sides}
+    for k, (pair, per_sign) in enumerate(twins):
+        states, _ = design[k]
+        moved = {sign: sweep_columns({side: a if keep is None else a.rows(keep)
+                                      for side, a in states[sign].items()},
+                                     m.suspension, per_sign[sign], rows)
+                 for sign, m in pair.models()}
+        for side in s.sides:
+            for name in columns[side]:
+                if name == "branch" or name not in moved[1][side]:
+                    continue
+                t = tangents[side].setdefault(name, np.zeros((len(steps), len(twins))))
+                t[:, k] = (np.asarray(moved[1][side][name], float)
+                           - np.asarray(moved[-1][side][name], float)) / (2.0 * pair.step)
+    first = [st[s.side] for st in steps]
     loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
     poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
-    shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
     sweeps = []
+    for side in s.sides:
+        if variations:
+            tangents[side] = wheel_column_tangents([st[side] for st in steps], s.on_side(side))
+        sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side,
+                            loads=loads if side == s.side else None, poses=poses))
+    return sweeps
+
+
+def sweep_columns(by_side: dict, suspension, drive: Drive,
+                  steering_rows: np.ndarray | None = None) -> dict[str, dict[str, np.ndarray]]:
+    """Every column of each wheel's sweep (by side) from the recorded rig steps of
+    ``drive`` by side (lists of :class:`~elastokin.physics.states.StepState` or
+    :class:`~elastokin.physics.states.WheelArrays`; its ``recorded`` selection applied;
+    ``steering_rows``: see :func:`~elastokin.rig.characteristics.characteristics`)."""
+    s = suspension
+    keep = drive.recorded
+    cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
+    own = dict(drive.side_inputs)  # a wheel's own input, where it is not the drive's
+    if keep is not None:
+        cols = {k: v[keep] for k, v in cols.items()}
+        own = {k: v[keep] for k, v in own.items()}
+    shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
+    out = {}
     for side in s.sides:
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
-        columns = {**cols, **mine, **characteristics(by_side[side], view), **shared}
-        tangents = wheel_column_tangents(by_side[side], view) if variations else {}
-        sweeps.append(Sweep(label, drive.load_case, columns, tangents, side,
-                            loads=loads if side == s.side else None, poses=poses))
-    return sweeps
+        out[side] = {**cols, **mine, **characteristics(by_side[side], view,
+                                                        steering_rows=steering_rows),
+                     **shared}
+    return out
+
+
+def twin_drives(twins: Sequence, load_case: str, rig: RigSpec | None, kinematic: bool
+                ) -> list[tuple]:
+    """Per twin pair, by sign, the drive of ``load_case`` on that twin's suspension (the
+    design may change a drive: the steering ratio its rack travel, the track its roll)."""
+    out = []
+    for pair in twins:
+        per_sign = {}
+        for sign, m in pair.models():
+            per_sign[sign] = next(d for d in drives(m.suspension, rig, kinematic)
+                                  if d.load_case == load_case)
+        out.append((pair, per_sign))
+    return out
 
 
 #: rack travel (mm) of the probe step that finds the pinion's sense (:func:`left_turning`)
 STEERING_PROBE_MM = 0.1
 
 
-def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
-    """The steering ``drive`` with the pinion's sense that turns the wheels to the left for a
+def left_turning(model: SuspensionModel, drive: Drive, what: str) -> tuple[Drive, bool]:
+    """(the steering ``drive`` with the pinion's sense that turns the wheels to the left for a
     positive steering-wheel angle (ISO 8855, as ADAMS/Car). Rack travel + along the rack's
     axis turns the wheels left or right depending on whether the tie rods are behind or
     ahead of the wheel centres: one probe step of :data:`STEERING_PROBE_MM` decides, and the
-    rack's travel is mirrored about its held position when it turns them right."""
+    rack's travel is mirrored about its held position when it turns them right; whether it
+    was)."""
     t0 = model.suspension.axle.steering.travel_mm
     probe = {side: WheelInputs(None, np.repeat(np.asarray(wi.pad_loads)[:1], 2, axis=0),
                                np.repeat(np.asarray(wi.centre_loads)[:1], 2, axis=0))
@@ -111,8 +170,14 @@ def left_turning(model: SuspensionModel, drive: Drive, what: str) -> Drive:
     toe = toe_deg(np.array([st[s.side].spin_axis for st in steps]), s.forward, s.outboard)
     left_turn = (toe[1] - toe[0]) * steer_sign(s.side)
     if left_turn >= 0.0:
-        return drive
-    rack = 2.0 * t0 - drive.rack_travel_mm
+        return drive, False
+    return mirrored_rack(drive, model), True
+
+
+def mirrored_rack(drive: Drive, model: SuspensionModel) -> Drive:
+    """``drive`` with the rack's travel mirrored about its held position (the pinion's
+    other sense, :func:`left_turning`)."""
+    rack = 2.0 * model.suspension.axle.steering.travel_mm - drive.rack_travel_mm
     return replace(drive, rack_travel_mm=rack, columns={**drive.columns, "rack_travel_mm": rack})
 
 
@@ -123,12 +188,16 @@ def run_drive(model: SuspensionModel, label: str, drive: Drive,
 
 
 def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None = None,
-                         variations: Sequence | None = None) -> dict[str, list[Sweep]]:
+                         variations: Sequence | None = None, twins: Sequence | None = None,
+                         detail: str = "full") -> dict[str, list[Sweep]]:
     """Every load case of ``rig`` (default: the model's config's) on ``model``: the sweeps by
-    side (the config side's first)."""
+    side (the config side's first); ``twins``: design sensitivities, a
+    :class:`~elastokin.mbs.twins.TwinPair` per design variable (:func:`run_drive_sides`)."""
     out: dict[str, list[Sweep]] = {side: [] for side in model.suspension.sides}
-    for d in drives(model.suspension, rig, model.suspension.kinematic):
-        for sw in run_drive_sides(model, label, d, variations):
+    kinematic = model.suspension.kinematic
+    for d in drives(model.suspension, rig, kinematic):
+        pairs = twin_drives(twins, d.load_case, rig, kinematic) if twins else None
+        for sw in run_drive_sides(model, label, d, variations, pairs, detail):
             out[sw.side].append(sw)
     return out
 
@@ -158,16 +227,35 @@ def force_sweep(model: SuspensionModel, label: str, case: str,
 
 
 def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
-                     torque_step_Nmm: float = 1000.0) -> np.ndarray:
+                     torque_step_Nmm: float = 1000.0, twins: Sequence | None = None):
     """Compliance of every wheel centre at the static equilibrium under the design wheel
     loads (patches free), by central differences: (6 n, 6 n) for n wheels (the config side's
     first: on an axle ADAMS/Car's 12x12 matrix with the left wheel first when the config is a
     left corner); per wheel columns force x, y, z (N) and torque x, y, z (N*mm) at its centre,
     rows its centre's displacement x, y, z (mm) and rotation vector x, y, z (deg); config
-    frame."""
-    from scipy.spatial.transform import Rotation
-
+    frame. With ``twins`` (design sensitivities, :func:`run_drive_sides`): (the matrix, its
+    derivatives (6 n, 6 n, variables))."""
     s = model.suspension
+    loads = _compliance_loads(s, force_step_N, torque_step_Nmm)
+    pairs = [(pair, {sign: (_compliance_loads(m.suspension, force_step_N, torque_step_Nmm),
+                            None, None) for sign, m in pair.models()}) for pair in twins or ()]
+    states = run_rig(model, loads, what="compliance matrix", twins=pairs)
+    C = compliance_from_states({side: [st[side] for st in states] for side in s.sides}, s,
+                               force_step_N, torque_step_Nmm)
+    if twins is None:
+        return C
+    dC = np.zeros((*C.shape, len(pairs)))
+    for k, (pair, _) in enumerate(pairs):
+        moved, step = states.design[k]
+        plus, minus = (compliance_from_states(moved[sign], m.suspension, force_step_N,
+                                              torque_step_Nmm) for sign, m in pair.models())
+        dC[:, :, k] = (plus - minus) / (2.0 * step)
+    return C, dC
+
+
+def _compliance_loads(s, force_step_N: float, torque_step_Nmm: float) -> dict:
+    """The compliance matrix's rig inputs: each wheel at its design load, then every force
+    and torque component at every wheel centre, + and - (central differences)."""
     n = len(s.sides)
     steps = [np.zeros(6 * n)]
     for k in range(6 * n):
@@ -176,23 +264,34 @@ def wheel_compliance(model: SuspensionModel, force_step_N: float = 10.0,
         steps += [h, -h]
     centre = np.array(steps)
     pad = np.tile(s.up * s.design.wheel_load_N, (len(steps), 1))
-    wheels = {side: WheelInputs(None, pad, centre[:, 6 * i:6 * i + 6])
-              for i, side in enumerate(s.sides)}
-    states = run_rig(model, wheels, what="compliance matrix")
-    base = states[0]
+    return {side: WheelInputs(None, pad, centre[:, 6 * i:6 * i + 6])
+            for i, side in enumerate(s.sides)}
 
-    def response(st):
+
+def compliance_from_states(by_side: dict, suspension, force_step_N: float = 10.0,
+                           torque_step_Nmm: float = 1000.0) -> np.ndarray:
+    """The compliance matrix (:func:`wheel_compliance`) from the rig steps of its inputs, by
+    side (lists of :class:`~elastokin.physics.states.StepState` or their
+    :class:`~elastokin.physics.states.WheelArrays`)."""
+    from scipy.spatial.transform import Rotation
+
+    s = suspension
+    n = len(s.sides)
+    wheel = {side: WheelArrays.of(by_side[side]) for side in s.sides}
+
+    def response(i):
         out = []
         for side in s.sides:
-            R0, x0 = base[side].wheel_rotation, base[side].wheel_centre_mm
-            rot = Rotation.from_matrix(st[side].wheel_rotation @ R0.T).as_rotvec(degrees=True)
-            out.append(np.r_[st[side].wheel_centre_mm - x0, rot])
+            a = wheel[side]
+            R0, x0 = a.wheel_rotation[0], a.wheel_centre_mm[0]
+            rot = Rotation.from_matrix(a.wheel_rotation[i] @ R0.T).as_rotvec(degrees=True)
+            out.append(np.r_[a.wheel_centre_mm[i] - x0, rot])
         return np.concatenate(out)
 
     C = np.empty((6 * n, 6 * n))
     for k in range(6 * n):
-        h = centre[1 + 2 * k, k]
-        C[:, k] = (response(states[1 + 2 * k]) - response(states[2 + 2 * k])) / (2 * h)
+        h = force_step_N if k % 6 < 3 else torque_step_Nmm
+        C[:, k] = (response(1 + 2 * k) - response(2 + 2 * k)) / (2 * h)
     return C
 
 

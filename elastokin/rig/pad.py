@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elastokin.errors import ModelError
-from elastokin.physics.states import ModelState, StepState
+from elastokin.physics.states import ModelState, StepState, WheelArrays
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
@@ -88,7 +88,8 @@ def attach_heave(model: SuspensionModel) -> None:
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
             rack_travel_mm: np.ndarray | None = None, heave_load_N: np.ndarray | None = None,
             what: str = "static solve", solve_per_step: bool = False,
-            substeps: int | None = None, variations: Sequence | None = None
+            substeps: int | None = None, variations: Sequence | None = None,
+            twins: Sequence | None = None, bushings: bool = True
             ) -> list[dict[str, StepState]]:
     """Quasi-static steps of the rig from the design position, one dict of wheel states (by
     side) per step.
@@ -101,15 +102,87 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     variations: parameters of the model's parametric bushings
         (:class:`~elastokin.mbs.sensitivity.LawVariation`): every step then carries the
         derivatives of each wheel centre, contact patch and spin axis with respect to them.
+    twins: design sensitivities: per design variable a pair of twin models
+        (:class:`~elastokin.mbs.twins.TwinPair`) and, by sign (+1, -1), the arguments
+        ``(wheels, rack_travel_mm, heave_load_N)`` of the same load case on that twin's
+        suspension; the returned :class:`RigSteps` then carry ``design``, the wheels' states
+        on the twins; ``bushings``: with the bushings' deflections on the twins
+        (:func:`~elastokin.mbs.twins.solve_path_with_twins`).
     """
     from elastokin.mbs.sensitivity import solve_path_with_sensitivities
     from elastokin.mbs.solve import solve_path
+    from elastokin.mbs.twins import solve_path_with_twins
 
     s = model.suspension
     missing = sorted(set(s.wheels) - set(wheels))
     if missing:
         raise ModelError(f"{s.source}: the rig needs inputs for the wheel(s) on the "
                          f"{', '.join(missing)} side")
+    inputs, settle = rig_inputs(model, wheels, rack_travel_mm, heave_load_N)
+    roll = heave_load_N is not None
+    twins = list(twins or ())
+    for pair, per_sign in twins:
+        pair.inputs = {sign: rig_inputs(m, *per_sign[sign])[0] for sign, m in pair.models()}
+    heaving = [model, *(m for pair, _ in twins for _, m in pair.models())] if roll else []
+    for m in heaving:
+        m.set_support_axes(HEAVE, HEAVING)
+    design = []
+    try:
+        if twins:
+            states, design = solve_path_with_twins(model, inputs, what, [p for p, _ in twins],
+                                                   bushings)
+        elif variations:
+            states = solve_path_with_sensitivities(model, inputs, what, variations)
+        else:
+            # with ball-joint friction the suspension first settles under the first loads
+            states = solve_path(model, inputs, what, settle=settle,
+                                solve_per_step=solve_per_step, substeps=substeps)
+    finally:
+        for m in heaving:
+            m.set_support_axes(HEAVE, HELD)
+    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
+                    for side, wi in wheels.items()} for st in states)
+    out.design = [({sign: {side: wheel_arrays(m, d.states[sign], side,
+                                              wheels[side].pad_z_mm is not None, roll)
+                           for side in wheels} for sign, m in pair.models()}, d.step)
+                  for (pair, _), d in zip(twins, design)]
+    return out
+
+
+class RigSteps(list):
+    """The rig's steps (a list: per step the wheel states by side) and, solved with design
+    sensitivities, ``design``: per design variable ``({sign: {side: WheelArrays}}, step)``,
+    the wheels' states on its twins (:func:`wheel_arrays`)."""
+
+    def __init__(self, steps=(), design: list | None = None):
+        super().__init__(steps)
+        self.design = design or []
+
+
+def wheel_arrays(model: SuspensionModel, state: dict, side: str, displacement_control: bool,
+                 roll: bool = False) -> WheelArrays:
+    """:func:`wheel_state` over many steps: the wheel on ``side`` from a model's states as
+    arrays (:func:`~elastokin.mbs.solve.state_arrays`)."""
+    w = model.suspension.wheels[side]
+    n = names(side)
+    R = state["poses"][w.part][0]
+    pad = np.array(state["applied"][n["patch_force"]], float)
+    if displacement_control:
+        pad[:, 2] += state["support_force_N"][n["roll_pad" if roll else "pad"]][:, 2]
+    return WheelArrays(state["points"][n["centre"]], R @ w.spin_axis, R,
+                       state["points"][n["patch"]], pad, state["spring_force_N"],
+                       state["bushing_deflection"], state["bushing_load"], state["scalars"],
+                       state["poses"] if model.options.part_poses else None,
+                       state["reference_mm"])
+
+
+def rig_inputs(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
+               rack_travel_mm: np.ndarray | None = None,
+               heave_load_N: np.ndarray | None = None) -> tuple[dict, dict]:
+    """The rig attached to ``model`` (pads, and the heave beam for roll) and its inputs as
+    the solver takes them: (attachment name -> values per step, the loads the suspension
+    settles under when it has friction)."""
+    s = model.suspension
     attach_pads(model)
     inputs, settle = {}, {}
     roll = heave_load_N is not None
@@ -129,19 +202,7 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
         attach_heave(model)
         inputs[HEAVE_LOAD] = np.asarray(heave_load_N, float)[:, None] * s.up
         settle[HEAVE_LOAD] = inputs[HEAVE_LOAD][0]  # the beam carries the wheels as it settles
-        model.set_support_axes(HEAVE, HEAVING)
-    try:
-        if variations:
-            states = solve_path_with_sensitivities(model, inputs, what, variations)
-        else:
-            # with ball-joint friction the suspension first settles under the first loads
-            states = solve_path(model, inputs, what, settle=settle,
-                                solve_per_step=solve_per_step, substeps=substeps)
-    finally:
-        if roll:
-            model.set_support_axes(HEAVE, HELD)
-    return [{side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
-             for side, wi in wheels.items()} for st in states]
+    return inputs, settle
 
 
 def _steering_inputs(model: SuspensionModel, rack_travel_mm) -> dict[str, np.ndarray]:

@@ -74,3 +74,19 @@ def static_row_value(sweep: Sweep, name: str) -> float | None:
             return None
         value = float(np.interp(0.0, z[order], y[order]))
     return value if np.isfinite(value) else None
+
+
+def static_rows(columns: dict[str, np.ndarray]) -> np.ndarray:
+    """The rows :func:`static_row_value` reads in a parallel-travel sweep's columns (the
+    stroke's step at the design pad height, or the two around it); empty when none."""
+    if "pad_z_mm" not in columns:
+        return np.zeros(0, int)
+    stroke = np.flatnonzero(np.asarray(columns["branch"]) == "stroke")
+    z = np.asarray(columns["pad_z_mm"], float)[stroke]
+    hit = np.flatnonzero(z == 0.0)
+    if hit.size:
+        return stroke[hit[:1]]
+    below, above = np.flatnonzero(z < 0.0), np.flatnonzero(z > 0.0)
+    if not (below.size and above.size):
+        return np.zeros(0, int)
+    return np.unique(stroke[[below[np.argmax(z[below])], above[np.argmin(z[above])]]])

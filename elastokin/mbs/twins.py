@@ -1,0 +1,273 @@
+"""Exact sensitivities of a model's static steps to its design (hardpoints, rates, preloads,
+the steering ratio: any change of the suspension), through **twin models**.
+
+At every converged static step R(y, p) = 0 (y the parts' coordinates and the joints'
+multipliers), so ``dy/dp = -(dR/dy)^-1 dR/dp`` with no re-solve (as
+:mod:`elastokin.mbs.sensitivity` does for bushing laws). A change of the design moves
+Exudyn's reference configuration, the markers' local positions, link lengths, spring
+reference lengths, bushing frames and the rig's attachment points all at once; rather than
+follow each of these, dR/dp is the residual of a **twin**: the model built again from the
+changed suspension, with the **same parts' reference positions** as the model
+(``SuspensionModel(references=...)``), so that a coordinate vector means the same pose in
+both (a part's pose is its reference plus its displacement, its rotation from the identity),
+evaluated at the model's own converged state. Central differences, ``p +- step``: the
+residual is smooth in the design, and the twin's residual differs from the model's only in
+the terms the design changes.
+
+The channels depend on the design explicitly as well (a point sensor's local position, the
+wheel centre a travel is measured from, the design toe): every output of a step is
+evaluated on the twins at ``y +- step * dy/dp`` (:func:`sensor_arrays`: the parts' poses,
+points, supports' reactions and spring and stop forces from the coordinates as Exudyn
+defines them, vectorised; the other sensors read from Exudyn in that configuration), so
+that a channel computed from these two states by the rig's own code differs by exactly its
+derivative times ``2 step``.
+
+Units: mm, rad inside (coordinates); the design variables in their own units.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from elastokin.errors import ModelError
+from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.model import SuspensionModel
+from elastokin.mbs.sensitivity import (
+    Residual,
+    part_coordinates,
+    recorded_solve,
+    rxyz_matrix,
+    solve_tangents,
+    system_matrices,
+)
+from elastokin.mbs.solve import combined_sensors, state_arrays
+from elastokin.physics.states import ModelState
+
+
+@dataclass
+class TwinPair:
+    """One design variable: the models at ``p + step`` and ``p - step`` (built with the base
+    model's references), and the inputs each takes in the solve at hand (attachment name ->
+    values per step, as :func:`~elastokin.mbs.solve.solve_path` takes them; the rig computes
+    them from each twin's own suspension)."""
+
+    plus: SuspensionModel
+    minus: SuspensionModel
+    step: float
+    inputs: dict[int, Mapping[str, np.ndarray]] = field(default_factory=dict)
+
+    def models(self) -> tuple[tuple[int, SuspensionModel], ...]:
+        return (1, self.plus), (-1, self.minus)
+
+
+@dataclass(frozen=True)
+class DesignArrays:
+    """A solve's states on the twins of one design variable, as arrays over the steps
+    (:func:`~elastokin.mbs.solve.state_arrays`): by sign, ``+1`` at ``y + step dy/dp`` on
+    the model at ``p + step``, ``-1`` likewise; a quantity q computed from them has
+    ``dq/dp = (q(+1) - q(-1)) / (2 step)``."""
+
+    states: dict[int, dict[str, object]]
+    step: float
+
+
+def check_rigid(suspension) -> None:
+    """Design sensitivities take the parts' coordinates as rigid bodies' (6 each): refuse a
+    model with flexible beam parts, naming them."""
+    flexible = [b.part for b in getattr(suspension, "beams", ()) if not b.rigid]
+    if flexible:
+        raise ModelError(f"{suspension.source}: design sensitivities (optimize, sensitivity) "
+                         f"need rigid parts; the flexible beam part(s) {', '.join(flexible)} "
+                         "are not supported yet (without its 'beam' section a part is rigid)")
+
+
+def twin_model(model: SuspensionModel, suspension, preloads) -> SuspensionModel:
+    """A twin of ``model``: ``suspension`` (the design changed) with ``preloads``
+    (:class:`~elastokin.config.variants.DesignState`), built as
+    :func:`~elastokin.mbs.design.build_model` builds ``model``, with its parts' references."""
+    from elastokin.mbs.idle import hold_idle_spins
+
+    twin = SuspensionModel(suspension, model.options, preloads, references=model.ref)
+    if any(b.kinematic for b in suspension.bushings):
+        hold_idle_spins(twin)
+    return twin
+
+
+def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarray],
+                          what: str, twins: Sequence[TwinPair], bushings: bool = True
+                          ) -> tuple[list[ModelState], list[DesignArrays]]:
+    """:func:`~elastokin.mbs.solve.solve_path`, and per twin pair the states on its twins
+    (:class:`DesignArrays`, module docstring); ``bushings``: with the bushings' deflections
+    and loads in the twins' states (else left out: they cost a call into Exudyn per bushing,
+    state and variable). Friction is refused."""
+    states, steps = recorded_solve(model, inputs, what)
+    if not twins:
+        return states, []
+    n = len(states)
+    res = Residual(model, n, what)
+    try:
+        A, _ = system_matrices(res, steps)
+    finally:
+        res.close()
+    prepared = [{sign: (StepInputs(twin, tw.inputs[sign], n), Residual(twin, n, what))
+                 for sign, twin in tw.models()} for tw in twins]
+    try:
+        B = np.empty((n, res.n, len(twins)))
+        for k, tw in enumerate(twins):
+            r = {sign: _residuals(res_k, feed, steps)
+                 for sign, (feed, res_k) in prepared[k].items()}
+            B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
+        dy = solve_tangents(A, B)
+        design = [DesignArrays(_twin_states(tw, prepared[k], steps, dy[:, :, k], bushings),
+                               tw.step) for k, tw in enumerate(twins)]
+    finally:
+        for both in prepared:
+            for _, res_k in both.values():
+                res_k.close()
+    return states, design
+
+
+class StepInputs:
+    """A twin's attachments fed step by step (Python user functions returning the values of
+    the step at hand: a residual at a recorded step needs no path, and a twin built for a
+    few residuals should not compile symbolic ones): loads at their inputs (zero without),
+    supports given inputs or locks active at them, the others inactive, as
+    :func:`~elastokin.mbs.solve.set_attachment_paths` sets them for a solve."""
+
+    def __init__(self, model: SuspensionModel, inputs: Mapping[str, np.ndarray], n: int):
+        self.model = model
+        mbs = model.mbs
+        self.values = {}
+        for name, e in model.loads.items():
+            v = np.asarray(inputs.get(name, np.zeros((n, 3))), float).reshape(n, -1)
+            self.values[name] = v
+            mbs.SetLoadParameter(e["load"], "loadVectorUserFunction",
+                                 lambda mbs, t, vector, name=name: self.current[name])
+        for name, e in model.supports.items():
+            active = name in inputs or name in model.locks
+            if active:
+                v = inputs[name] if name in inputs else np.tile(model.locks[name], (n, 1))
+                self.values[name] = np.asarray(v, float).reshape(n, 6)
+                mbs.SetObjectParameter(e["object"], "offsetUserFunction",
+                                       lambda mbs, t, item, par, name=name: self.current[name])
+            mbs.SetObjectParameter(e["object"], "activeConnector", active)
+        self.current = {k: v[0].tolist() for k, v in self.values.items()}
+        mbs.Assemble()
+
+    def at(self, i: int) -> None:
+        self.current = {k: v[i].tolist() for k, v in self.values.items()}
+
+    @property
+    def applied(self) -> dict[str, np.ndarray]:
+        return {k: self.values[k] for k in self.model.loads}
+
+
+def twin_residuals(twin: SuspensionModel, inputs, steps, what: str) -> np.ndarray:
+    """(n_steps, N): the twin's residual at each recorded step of the model (time,
+    coordinates, multipliers), its inputs set (attachment name -> values per step)."""
+    feed = StepInputs(twin, inputs, len(steps))
+    res = Residual(twin, len(steps), what)
+    try:
+        return _residuals(res, feed, steps)
+    finally:
+        res.close()
+
+
+def _residuals(res: Residual, feed: StepInputs, steps) -> np.ndarray:
+    out = np.empty((len(steps), res.n))
+    for i, step in enumerate(steps):
+        feed.at(i)
+        res.set_state(*step)
+        out[i] = res.residual()
+    return out
+
+
+def _twin_states(tw: TwinPair, prepared, steps, dy: np.ndarray, bushings: bool
+                 ) -> dict[int, dict[str, object]]:
+    """Each twin's states (:func:`~elastokin.mbs.solve.state_arrays`) at the steps moved by
+    ``+-step * dy`` (n_steps, N), by sign."""
+    out = {}
+    q0 = np.array([q for _, q, _ in steps])
+    lam0 = np.array([lam for _, _, lam in steps])
+    times = [t for t, _, _ in steps]
+    for sign, twin in tw.models():
+        feed, res = prepared[sign]
+        n2 = res.n2
+        q = q0 + sign * tw.step * dy[:, :n2]
+        lam = lam0 + sign * tw.step * dy[:, n2:]
+        out[sign] = state_arrays(twin, sensor_arrays(twin, res, times, q, lam, bushings,
+                                                     feed), feed.applied)
+    return out
+
+
+def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
+                  lam: np.ndarray, bushings: bool = True, feed: StepInputs | None = None
+                  ) -> dict[str, np.ndarray]:
+    """The model's sensor values (steps, k) (as :func:`~elastokin.mbs.solve.recorded` reads
+    them, bushings combined) at the states ``q`` (n, n2), ``lam`` (n, n_ae): the parts'
+    poses, the point sensors, the supports' reactions, the springs' and stops' forces computed
+    here, vectorised (the
+    definitions of Exudyn's outputs: pose from the Tait-Bryan angles, a support's force its
+    multipliers, a spring's force ``k (L - L0)``); the other sensors (bushings, the
+    anti-roll bar) read from Exudyn in each state (the bushings only with ``bushings``)."""
+    mbs = model.mbs
+    coords = part_coordinates(model)
+    rot = {p: rxyz_matrix(q[:, i[3:]]) for p, i in coords.items()}
+    disp = {p: q[:, i[:3]] for p, i in coords.items()}
+    part_of = {int(b): p for p, b in {**model.body, **model.rig_bodies}.items()}
+
+    def marker_position(marker: int) -> np.ndarray:
+        m = mbs.GetMarker(marker)
+        local = np.asarray(m["localPosition"], float)
+        part = part_of.get(int(m["bodyNumber"]))
+        if part is None:  # the ground
+            return np.tile(local, (q.shape[0], 1))
+        return model.ref[part] + disp[part] + rot[part] @ local
+
+    data: dict[str, np.ndarray] = {}
+    for name in model.pose_refs:
+        data[f"part:{name}:R"] = rot[name].reshape(-1, 9)
+        data[f"part:{name}:disp"] = disp[name]
+    for name, (part, local) in model.point_sensors.items():
+        data[f"point:{name}"] = model.ref[part] + disp[part] + rot[part] @ local
+    for name, e in model.supports.items():
+        data[f"support:{name}"] = lam[:, np.asarray(mbs.systemData.GetObjectLTGAE(
+            e["object"]), int)[:3]]
+    for key, number, law in _line_forces(model):
+        obj = mbs.GetObject(number)
+        m0, m1 = obj["markerNumbers"]
+        length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
+        data[key] = law(length, obj)[:, None]
+    rest = [k for k in model.sensors if k not in data and not k.startswith("load:")
+            and (bushings or not k.startswith("bushing:"))]
+    if rest:
+        current = exu.ConfigurationType.Current
+        values = {k: [] for k in rest}
+        for i, (t, qi, li) in enumerate(zip(times, q, lam)):
+            if feed is not None:
+                feed.at(i)
+            res.set_state(t, qi, li)
+            for k in rest:
+                values[k].append(np.atleast_1d(mbs.GetSensorValues(model.sensors[k], current)))
+        data.update({k: np.array(v, float) for k, v in values.items()})
+    return combined_sensors(data, model)
+
+
+def _line_forces(model: SuspensionModel):
+    """(sensor key, object, force law of its length) of every coil spring and stop: Exudyn's
+    ``ForceLocal`` of a spring-damper, ``k (L - L0)``, and a stop's user function
+    (:func:`~elastokin.mbs.axle_elements.stop_function`)."""
+    out = []
+    for name, number in model.springs.items():
+        out.append((f"spring:{name}", number,
+                    lambda L, obj: obj["stiffness"] * (L - obj["referenceLength"])))
+    for stop in model.suspension.stops:
+        number = model.stops[stop.name]
+        sign = -1.0 if stop.kind == "bump" else 1.0
+        out.append((f"stop:{stop.name}", number,
+                    lambda L, obj, law=stop.law, sign=sign: sign * law(
+                        np.maximum(sign * (L - obj["referenceLength"]), 0.0))))
+    return out
