@@ -7,9 +7,9 @@ static state, a repeated run gives identical numbers, the suspension is not muta
 pickle (for dask); and, on the nominal pseudo-McPherson and the double wishbone, toe, camber and
 travel do not depend on the side (left/right mirror) or on the frame (ISO 8855 or ADAMS/Car).
 The rig is each config's in few, large steps, so that the whole contract runs in seconds. The
-shipped axle kinds (multi-link, semi-trailing arm, solid axles) are variants too, and the solid
-axle with a Panhard rod (one shared part carrying both wheels, items on both sides) is mirrored
-and turned into the other frame as well.
+shipped axle kinds (multi-link, semi-trailing arm, solid axles, the HMMWV's rear double
+wishbone) are variants too, and the solid axle with a Panhard rod (one shared part carrying
+both wheels, items on both sides) is mirrored and turned into the other frame as well.
 """
 
 from __future__ import annotations
@@ -38,7 +38,8 @@ TWIST_BEAM = CONFIGS / "twist_beam_axle.yaml"
 KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
          "semi_trailing_arm": CONFIGS / "semi_trailing_arm_axle.yaml",
          "solid_axle_panhard": CONFIGS / "solid_axle_panhard.yaml",
-         "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml"}
+         "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml",
+         "double_wishbone_rear": CONFIGS / "double_wishbone_rear_axle.yaml"}
 
 
 def coarse_rig(data: dict) -> dict:
