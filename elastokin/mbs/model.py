@@ -312,6 +312,10 @@ class SuspensionModel:
         for name, number in recorded.items():
             self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+        #: the beam parts' node lines, their nodes' poses recorded with every part's
+        lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
+            if self.options.part_poses else {}
+        self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:
         """Record a body's rotation matrix and displacement at every step
