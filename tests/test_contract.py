@@ -7,10 +7,10 @@ static state, a repeated run gives identical numbers, the suspension is not muta
 pickle (for dask); and, on the nominal pseudo-McPherson and the double wishbone, toe, camber and
 travel do not depend on the side (left/right mirror) or on the frame (ISO 8855 or ADAMS/Car).
 The rig is each config's in few, large steps, so that the whole contract runs in seconds. The
-shipped axle kinds (multi-link, semi-trailing arm, solid axles, the push-rod axle) are variants
-too; the solid axle with a Panhard rod (one shared part carrying both wheels, items on both
-sides) and the push-rod axle (a heave spring joining the two sides' rockers) are mirrored and
-turned into the other frame as well.
+shipped axle kinds (multi-link, semi-trailing arm, solid axles, the HMMWV's rear double
+wishbone, the push-rod axle) are variants too; the solid axle with a Panhard rod (one shared
+part carrying both wheels, items on both sides) and the push-rod axle (a heave spring joining
+the two sides' rockers) are mirrored and turned into the other frame as well.
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
          "semi_trailing_arm": CONFIGS / "semi_trailing_arm_axle.yaml",
          "solid_axle_panhard": CONFIGS / "solid_axle_panhard.yaml",
          "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml",
+         "double_wishbone_rear": CONFIGS / "double_wishbone_rear_axle.yaml",
          "fsae_pushrod": CONFIGS / "fsae_pushrod_axle.yaml"}
 
 

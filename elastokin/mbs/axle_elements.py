@@ -28,6 +28,16 @@ BAR_TRANSLATION_RATE = 1.0e6
 BAR_BENDING_RATE = 1.0e10
 
 
+def add_line_elements(model) -> tuple[dict[str, int], dict[str, int], dict[str, int]]:
+    """The springs (each with its design force, ``model.spring_force``), dampers and stops
+    of the model's suspension, by name: the elements acting along the line between two
+    points."""
+    s = model.suspension
+    return ({sp.name: add_spring(model, sp, model.spring_force[sp.name]) for sp in s.springs},
+            {dm.name: add_damper(model, dm) for dm in s.dampers},
+            {st.name: add_stop(model, st) for st in s.stops})
+
+
 def add_spring(model, spring, force_N: float) -> int:
     """The coil spring ``spring`` (:class:`~elastokin.config.suspension.Spring`) between its
     seats, carrying the compression force ``force_N`` at its installed length."""

@@ -46,13 +46,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
-from elastokin.mbs.axle_elements import (
-    add_anti_roll_bar,
-    add_damper,
-    add_spring,
-    add_steering_lock,
-    add_stop,
-)
+from elastokin.mbs.axle_elements import add_anti_roll_bar, add_line_elements, add_steering_lock
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
@@ -163,10 +157,7 @@ class SuspensionModel:
         self.friction = {} if spec is None else {
             name: friction.add_element(self, name, torque, spec.presliding_deg * DEG)
             for name, torque in spec.torque_Nmm.items()}
-        self.springs = {sp.name: add_spring(self, sp, self.spring_force[sp.name])
-                        for sp in s.springs}
-        self.dampers = {dm.name: add_damper(self, dm) for dm in s.dampers}
-        self.stops = {st.name: add_stop(self, st) for st in s.stops}
+        self.springs, self.dampers, self.stops = add_line_elements(self)
         bar = s.axle.anti_roll_bar if s.axle is not None else None
         self.anti_roll_bar = add_anti_roll_bar(self, bar) if bar is not None else None
         self._add_sensors()
@@ -314,6 +305,10 @@ class SuspensionModel:
         for name, number in recorded.items():
             self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+        #: the beam parts' node lines, their nodes' poses recorded with every part's
+        lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
+            if self.options.part_poses else {}
+        self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:
         """Record a body's rotation matrix and displacement at every step

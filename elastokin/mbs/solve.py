@@ -240,7 +240,9 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
                      ) -> dict[str, np.ndarray]:
     """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
-    6-vector per step (bushings whose sensors were not read are left out)."""
+    6-vector per step (bushings whose sensors were not read are left out), and each beam
+    part's node positions (steps, m, 3) and rotations from their design frames (steps, m, 3,
+    3) in one array each (``beam:<part>:node_x``, ``beam:<part>:node_R``)."""
     for name in model.bushings:
         if f"bushing:{name}:d" not in data:
             continue
@@ -248,6 +250,14 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
             [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
         data[f"bushing:{name}:load"] = np.concatenate(
             [data.pop(f"bushing:{name}:f"), data.pop(f"bushing:{name}:t")], axis=1)
+    for part, line in model.node_lines.items():
+        if f"part:node:{line[0]}:R" not in data:
+            continue
+        design = np.array([model.beams[part].frames[n] for n in line])
+        R = np.stack([data.pop(f"part:node:{n}:R") for n in line], axis=1)
+        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
+        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")
+                                                for n in line], axis=1)
     return data
 
 
@@ -280,6 +290,10 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
         defl[name], load[name] = u, f
     poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
+    for part in model.node_lines:  # combined_sensors: rotations from the design frames
+        if f"beam:{part}:node_x" in row:
+            poses.node_mm[part] = row[f"beam:{part}:node_x"]
+            poses.node_rotation[part] = row[f"beam:{part}:node_R"]
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,

@@ -244,9 +244,15 @@ def view_section(fragment: str, factor: float | None) -> list[str]:
                  "coloured by their deflection (mm, scale at the bottom left) with their "
                  "frames (x red, y green, z blue); stops turn red in contact; the steering "
                  "axes are dashed, the front-view instant centres (+) and the roll centre "
-                 "(&#9670;) are joined to the contact patches. The tyre's width is drawn 0.7 "
-                 "times its loaded radius (a config gives none). Works offline (plotly.js is "
-                 "in the page)." + ident), fragment]
+                 "(&#9670;) are joined to the contact patches. The arrows are the load each "
+                 "body pickup receives (from the pickup, along the force on the body) and the "
+                 "rig's load on each tyre (from the contact patch), at the scale the legend "
+                 "states: the values of loads.csv at that step; \"worst case of\" goes to a "
+                 "pickup's largest load. A flexible beam is drawn through its nodes as solved, "
+                 "with a band from its node line to its shear centre that turns with its "
+                 "section (its twist magnified as the legend states). The tyre's width is "
+                 "drawn 0.7 times its loaded radius (a config gives none). Works offline "
+                 "(plotly.js is in the page; docs/view.md)." + ident), fragment]
 
 
 def errors_section(summary: dict) -> list[str]:

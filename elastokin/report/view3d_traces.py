@@ -78,8 +78,9 @@ def part_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
     """Each part's sticks and points (its hover names the points) and its hull: one trace
     of each for a part and its copy on an axle's other side (one colour, one legend entry)."""
     families: dict[str, list] = {}
+    beams = {b.part for b in scene.beams}  # drawn through their nodes (view3d_beams)
     for p in scene.parts:
-        if len(p.points_mm):
+        if len(p.points_mm) and p.name not in beams:
             families.setdefault(p.name.removesuffix(scene_suffix(scene, p.name)), []).append(p)
     out = []
     for base, parts in families.items():

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.config.draft import SuspensionDraft
+from elastokin.physics.beams import node_line
 
 #: one colour per part (its mirrored copy on an axle's other side shares it)
 PART_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf",
@@ -25,6 +26,9 @@ PART_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"
 TYRE_WIDTH_PER_RADIUS = 0.7
 #: points closer than this (mm) are one point of a part
 SAME_POINT_MM = 1e-6
+#: a beam's band drawn this wide (mm) along its section's z axis when its shear centre lies
+#: on its node line (within 1 mm)
+BAND_MM = 40.0
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,8 @@ class ScenePart:
     sticks between them (``edges``, index pairs) and its convex hull (``triangles``, index
     triples; none for fewer than 3 points or points on a line). ``carriers``: the part whose
     pose moves each point: the part itself, or for a flexible (beam) part, which has no one
-    pose, the rigid part attached at that point (it is drawn straight between them)."""
+    pose, the rigid part attached at that point (a beam part is drawn through its nodes,
+    :class:`SceneBeam`: no sticks, no hull)."""
 
     name: str
     colour: str
@@ -77,6 +82,22 @@ class SceneWheel:
 
 
 @dataclass(frozen=True)
+class SceneBeam:
+    """A flexible (beam) part drawn through its node line's nodes
+    (:func:`~elastokin.physics.beams.node_line`): ``nodes_mm`` (m, 3) at the design position,
+    ``labels`` (a named node's hardpoint, else its number), and a band from each node to the
+    shear centre (``band_mm`` (m, 3), config frame: the shear centre's offset, or
+    :data:`BAND_MM` along the section's z axis when it lies on the node line), which turns
+    with the section: its twist."""
+
+    part: str
+    colour: str
+    labels: tuple[str, ...]
+    nodes_mm: np.ndarray
+    band_mm: np.ndarray
+
+
+@dataclass(frozen=True)
 class Scene:
     """The scene of one suspension model (module docstring). ``ground_labels`` /
     ``ground_mm``: the ground's pickups; ``loose_labels`` / ``loose_mm``: hardpoints that no
@@ -94,6 +115,7 @@ class Scene:
     loose_labels: tuple[str, ...] = ()
     loose_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     errors: tuple[str, ...] = ()
+    beams: tuple[SceneBeam, ...] = ()
 
     @property
     def part_names(self) -> tuple[str, ...]:
@@ -292,14 +314,29 @@ def build_scene(d: SuspensionDraft) -> Scene:
         x = np.array([p for _, p in found]).reshape(-1, 3)
         carriers = tuple(_carrier(d, name, p, flexible) for p in x)
         about = getattr(d.parts[name], "description", "") + (
-            " (flexible: drawn straight between the parts it is attached to)"
-            if name in flexible else "")
+            " (flexible: drawn through its nodes)" if name in flexible else "")
+        rigid = name not in flexible
         parts.append(ScenePart(name, colours[name], about, tuple(lab for lab, _ in found), x,
-                               _sticks(x), () if name in flexible else _hull(x), carriers))
+                               _sticks(x) if rigid else (), _hull(x) if rigid else (),
+                               carriers))
     ground = pts.by_part.get(d.ground, [])
     loose = [k for k in d.hardpoints if k not in pts.used]
     frame = f"config frame: x {d.frame.x}, y {d.frame.y}, z {d.frame.z}"
     return Scene(d.name, d.source, d.ground, frame, tuple(parts), tuple(items), tuple(wheels),
                  tuple(lab for lab, _ in ground),
                  np.array([x for _, x in ground]).reshape(-1, 3), tuple(loose),
-                 np.array([d.hardpoints[k] for k in loose], float).reshape(-1, 3), d.errors)
+                 np.array([d.hardpoints[k] for k in loose], float).reshape(-1, 3), d.errors,
+                 tuple(scene_beam(b, colours[b.part]) for b in flexible.values()))
+
+
+def scene_beam(b, colour: str) -> SceneBeam:
+    """The drawing of a flexible part ``b`` (:class:`~elastokin.config.suspension.Beam`)."""
+    nodes, segment = node_line(b.nodes_mm, b.elements_per_segment)
+    offset = np.asarray(b.shear_centre_mm, float)[segment]
+    on_line = np.linalg.norm(offset, axis=1) < 1.0
+    band = np.where(on_line[:, None], BAND_MM * np.asarray(b.frames, float)[segment, :, 2],
+                    offset)
+    per = b.elements_per_segment
+    labels = tuple(b.node_names[k // per] if k % per == 0 else f"node {k + 1}"
+                   for k in range(len(nodes)))
+    return SceneBeam(b.part, colour, labels, nodes, band)

@@ -45,8 +45,9 @@ from pathlib import Path
 from elastokin.version import __version__, exudyn_version
 
 #: bumped when what an entry holds or its layout changes (5: signed entries; 6: every part's
-#: pose in each sweep and the model's suspension in each ModelResult, for the 3D view)
-CACHE_FORMAT = 6
+#: pose in each sweep and the model's suspension in each ModelResult, for the 3D view; 7:
+#: the beam parts' node poses in each sweep's poses)
+CACHE_FORMAT = 7
 #: the largest entry read (the case study's are under 4 MB): larger ones are refused unread
 MAX_ENTRY_BYTES = 1 << 30
 MAGIC = b"elastokin-cache"
