@@ -285,8 +285,10 @@ def test_a_shared_part_carries_both_wheels_and_items_on_both_sides():
 
 
 # ------------------------------------------------------------------------- compliance
+#: the bushed kinds, and the push-rod axle (every joint ideal: its compliance is its springs'
+#: through the rockers, the heave spring coupling the wheels)
 BUSHED = ["multilink_axle.yaml", "semi_trailing_arm_axle.yaml", "solid_axle_panhard.yaml",
-          "double_wishbone_rear_axle.yaml"]
+          "double_wishbone_rear_axle.yaml", "fsae_pushrod_axle.yaml"]
 
 
 def force_based_roll_centre_mm(C: np.ndarray, d: dict) -> float:
@@ -345,13 +347,17 @@ def test_compliance_is_reciprocal_and_the_force_based_roll_centre_kinematic(name
       12 mm HMMWV rear: the bushings). (Stiffening the bushings' held directions 1000 times
       instead converges to it too, 109.68 against 109.63 mm on the multi-link, but such laws
       stall Newton at its absolute tolerance on the semi-trailing arm and the Panhard axle.)
-      """
+
+    The push-rod axle has no bushing (every joint ideal, as its source): its compliance is
+    that of its springs through the rockers, symmetric under the design load too (2.3e-5;
+    the heave spring couples the wheels: C[zL, zR] = C[zR, zL] = -8.85e-3 mm/N), and its
+    force-based roll centre is the kinematic one (4.663 mm both, 0.0005 mm apart)."""
     from elastokin.rig.load_cases import wheel_compliance
 
     d = config(name)
     d["rig"] = rig(parallel_travel={"rebound_mm": -4, "bump_mm": 4, "step_mm": 2})
     s = suspension(d, name)
-    assert reciprocity_error(wheel_compliance(build_model(s))) < 5e-2
+    assert reciprocity_error(wheel_compliance(build_model(s))) < (5e-2 if s.bushings else 1e-3)
     unloaded = copy.deepcopy(d)
     unloaded["design"]["wheel_load_N"] = 1.0
     unloaded["axle"].get("vehicle", {}).pop("axle_mass_kg", None)  # they fit the design load

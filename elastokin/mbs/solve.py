@@ -270,6 +270,10 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
     # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
     scalars = {f"stop:{n}": abs(float(row[f"stop:{n}"][0])) for n in model.stops}
+    # spring and damper lengths (mm) between their points
+    scalars.update({f"{k}_length:{n}": float(row[f"{k}_length:{n}"][0])
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = float(row["arb:r"][2]) / DEG
         scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
@@ -303,6 +307,9 @@ def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
     :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
     part (rotation (n, 3, 3), displacement (n, 3)))."""
     scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    scalars.update({f"{k}_length:{n}": data[f"{k}_length:{n}"][:, 0]
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
         scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]

@@ -161,7 +161,8 @@ class ModelState:
     applied: dict[str, np.ndarray] = field(default_factory=dict)
     points: dict[str, np.ndarray] = field(default_factory=dict)
     sensitivity: StateSensitivity | None = None
-    #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``
+    #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``,
+    #: ``spring_length:<name>``, ``damper_length:<name>`` (mm)
     scalars: dict[str, float] = field(default_factory=dict)
     #: the load of every element (None: not recorded, ``ModelOptions.record_loads``)
     loads: LoadTable | None = None

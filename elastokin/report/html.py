@@ -206,6 +206,11 @@ def characteristics_section(summary: dict) -> list[str]:
     rows = [[f'<span title="{esc(c.definition)}">{esc(c.label)} [{c.unit}]</span>',
              *(num(models[m].get(c.name), c.fmt) for m in models)]
             for c in CHARACTERISTIC_LIST]
+    ratios = dict.fromkeys(k for m in models.values() for k in m.get("motion_ratios") or {})
+    rows += [[f'<span title="{esc(channel(k).sign)}; at the static state">'
+              f"{esc(channel(k).label.split(' [')[0])} [-]</span>",
+              *(num((models[m].get("motion_ratios") or {}).get(k), ".4f") for m in models)]
+             for k in ratios]
     return [note("Gradients are least-squares slopes over the measured rows of each load case "
                  '(definitions in <a href="#signs">sign conventions</a>); steering-axis '
                  "figures at the static state."), table(["characteristic", *models], rows)]

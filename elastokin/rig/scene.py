@@ -1,7 +1,7 @@
 """The 3D scene of a suspension as plain data (pure numpy; drawn by
 :mod:`elastokin.report.view3d`): every moving part as the body between its points (sticks and
 its convex hull), the ground's pickups, every connection (joints by kind, bushings with their
-frames, links), springs, stops, the anti-roll bar's torsion spring, the wheels with their
+frames, links), springs, dampers, stops, the anti-roll bar's torsion spring, the wheels with their
 tyres and contact patches, and the hardpoints no item uses. Everything at the design
 position, config frame, mm; each point is carried by one part (the ground's do not move), so
 that a step of a load case is the parts' poses (:mod:`elastokin.rig.scene_motion`).
@@ -52,11 +52,11 @@ class ScenePart:
 
 @dataclass(frozen=True)
 class SceneItem:
-    """A connection, spring, stop or the anti-roll bar's torsion spring: ``points_mm``
+    """A connection, spring, damper, stop or the anti-roll bar's torsion spring: ``points_mm``
     (design position) each carried by the part of the same index in ``carriers``; ``frame``
     (columns x y z, config frame) turns with ``carriers[0]``; ``kind``: the joint's kind,
-    ``bushing``, ``link``, ``spring``, ``bump stop``, ``rebound stop`` or ``anti-roll
-    bar``; ``text``: what it is, for the hover."""
+    ``bushing``, ``link``, ``spring``, ``damper``, ``bump stop``, ``rebound stop`` or
+    ``anti-roll bar``; ``text``: what it is, for the hover."""
 
     kind: str
     name: str
@@ -236,6 +236,13 @@ def scene_items(d: SuspensionDraft, pts: _Points) -> list[SceneItem]:
                                None, f"{sp.name}: spring {sp.parts[0]} - {sp.parts[1]}, "
                                f"{sp.rate_N_per_mm:g} N/mm, installed length "
                                f"{sp.installed_length_mm:.1f} mm"))
+    for dm in d.dampers:
+        for p, x in zip(dm.parts, dm.points_mm):
+            pts.add(p, x, dm.name)
+        rate = f", {dm.rate_N_s_per_mm:g} N*s/mm" if dm.rate_N_s_per_mm is not None else ""
+        items.append(SceneItem("damper", dm.name, dm.parts, dm.parts, np.array(dm.points_mm),
+                               None, f"{dm.name}: damper {dm.parts[0]} - {dm.parts[1]}{rate}, "
+                               f"installed length {dm.installed_length_mm:.1f} mm"))
     for st in d.stops:
         for p, x in zip(st.parts, st.points_mm):
             pts.add(p, x, st.name)

@@ -29,7 +29,8 @@ from elastokin.physics.states import LoadTable, PartPoses, PoseSeries
 from elastokin.physics.steering_axis import steering_axes_from_poses
 from elastokin.physics.steering_geometry import axis_ground_point, contact_point
 from elastokin.rig.axle_channels import iso_rotation
-from elastokin.rig.channels import LOAD_CASES, bushing_columns, spring_column, stop_column
+from elastokin.rig.channels import LOAD_CASES
+from elastokin.rig.item_channels import bushing_columns, spring_column, stop_column
 from elastokin.rig.loads import PICKUP_KINDS
 from elastokin.rig.scene import Scene
 from elastokin.rig.steering import steering_skeleton, travel_skeleton
