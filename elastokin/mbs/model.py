@@ -12,7 +12,7 @@ rotation identity, so a body's local frame is the config frame at the design pos
   modelled by its ideal joint (``Bushing.kinematic``) becomes that joint, plus a regularising
   rotational spring of 1e-3 times its rates on the joint's free rotations (it only fixes idle
   spins, e.g. of a link arm about its own axis, and does not change the kinematics);
-- coil springs: ``ObjectConnectorSpringDamper`` between the seats;
+- coil springs, dampers (no force at rest): ``ObjectConnectorSpringDamper`` between points;
 - ball-joint friction (:mod:`elastokin.mbs.friction`), for the synthetic real suspension.
 
 The model knows nothing of a rig. Whatever drives it is attached from outside as **supports**
@@ -34,7 +34,6 @@ from exudyn.itemInterface import (
     MarkerBodyPosition,
     MarkerBodyRigid,
     ObjectConnectorDistance,
-    ObjectConnectorSpringDamper,
     ObjectGround,
     ObjectJointGeneric,
     ObjectJointSpherical,
@@ -47,7 +46,7 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
-from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, add_stop
+from elastokin.mbs.axle_elements import add_anti_roll_bar, add_line_elements, add_steering_lock
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
@@ -147,10 +146,9 @@ class SuspensionModel:
         self.joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
                                                j.constrained, j.offset_mm, j.part_shift_mm)
                        for j in s.joints}
-        self.links: dict[str, int] = {}
+        self.links = {}
         for link in s.links:
-            m0 = self.position_marker(link.parts[0], link.points_mm[0])
-            m1 = self.position_marker(link.parts[1], link.points_mm[1])
+            m0, m1 = (self.position_marker(q, p) for q, p in zip(link.parts, link.points_mm))
             length = float(np.linalg.norm(link.points_mm[1] - link.points_mm[0]))
             self.links[link.name] = mbs.AddObject(ObjectConnectorDistance(
                 markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
@@ -159,16 +157,7 @@ class SuspensionModel:
         self.friction = {} if spec is None else {
             name: friction.add_element(self, name, torque, spec.presliding_deg * DEG)
             for name, torque in spec.torque_Nmm.items()}
-        self.springs = {}
-        for sp in s.springs:
-            m0 = self.position_marker(sp.parts[0], sp.seats_mm[0])
-            m1 = self.position_marker(sp.parts[1], sp.seats_mm[1])
-            # compression force P at the installed length L: reference length L + P / k
-            ref_len = sp.installed_length_mm + self.spring_force[sp.name] / sp.rate_N_per_mm
-            self.springs[sp.name] = mbs.AddObject(ObjectConnectorSpringDamper(
-                markerNumbers=[m0, m1], referenceLength=ref_len, stiffness=sp.rate_N_per_mm,
-                damping=0.0, name=f"spring:{sp.name}"))
-        self.stops = {st.name: add_stop(self, st) for st in s.stops}
+        self.springs, self.dampers, self.stops = add_line_elements(self)
         bar = s.axle.anti_roll_bar if s.axle is not None else None
         self.anti_roll_bar = add_anti_roll_bar(self, bar) if bar is not None else None
         self._add_sensors()
@@ -208,6 +197,7 @@ class SuspensionModel:
         items += [(b.parts, (b.position_mm, b.position_mm)) for b in s.bushings]
         items += [(sp.parts, sp.seats_mm) for sp in s.springs]
         items += [(st.parts, st.points_mm) for st in s.stops]
+        items += [(dm.parts, dm.points_mm) for dm in s.dampers]
         for parts, (p0, p1) in items:
             for part, p in zip(parts, (p0, p1)):
                 if part in pts:
@@ -290,8 +280,8 @@ class SuspensionModel:
 
     def _add_sensors(self) -> None:
         """Record the model's own outputs in C++ at each load step (no Python call per step):
-        spring forces, bushing deflections and loads, and the poses of the wheel part (always)
-        and of every other part (``ModelOptions.part_poses``)."""
+        spring forces and lengths, damper lengths, bushing deflections and loads, and the poses
+        of the wheel part (always) and of every other part (``ModelOptions.part_poses``)."""
         mbs = self.mbs
         ovt = exu.OutputVariableType
 
@@ -301,6 +291,9 @@ class SuspensionModel:
 
         for name, o in self.springs.items():
             self.sensors[f"spring:{name}"] = obj(o, ovt.ForceLocal)
+            self.sensors[f"spring_length:{name}"] = obj(o, ovt.Distance)
+        for name, o in self.dampers.items():
+            self.sensors[f"damper_length:{name}"] = obj(o, ovt.Distance)
         for name, e in self.bushings.items():
             for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
                                 ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
@@ -315,6 +308,10 @@ class SuspensionModel:
         for name, number in recorded.items():
             self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+        #: the beam parts' node lines, their nodes' poses recorded with every part's
+        lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
+            if self.options.part_poses else {}
+        self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:
         """Record a body's rotation matrix and displacement at every step

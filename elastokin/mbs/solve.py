@@ -246,7 +246,9 @@ def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarra
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
                      ) -> dict[str, np.ndarray]:
     """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
-    6-vector per step (bushings whose sensors were not read are left out)."""
+    6-vector per step (bushings whose sensors were not read are left out), and each beam
+    part's node positions (steps, m, 3) and rotations from their design frames (steps, m, 3,
+    3) in one array each (``beam:<part>:node_x``, ``beam:<part>:node_R``)."""
     for name in model.bushings:
         if f"bushing:{name}:d" not in data:
             continue
@@ -254,6 +256,15 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
             [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
         data[f"bushing:{name}:load"] = np.concatenate(
             [data.pop(f"bushing:{name}:f"), data.pop(f"bushing:{name}:t")], axis=1)
+    for part, line in model.node_lines.items():
+        if f"part:node:{line[0]}:R" not in data:
+            continue
+        design = np.array([model.beams[part].frames[n] for n in line])
+        R = np.stack([data.pop(f"part:node:{n}:R") for n in line], axis=1)
+        R = R.reshape(len(R), len(line), 3, 3)  # (not -1: a run that reached no step has 0)
+        data[f"beam:{part}:node_R"] = R @ np.swapaxes(design, 1, 2)
+        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")
+                                                for n in line], axis=1)
     return data
 
 
@@ -266,6 +277,10 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
     # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
     # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
     scalars = {f"stop:{n}": abs(float(row[f"stop:{n}"][0])) for n in model.stops}
+    # spring and damper lengths (mm) between their points
+    scalars.update({f"{k}_length:{n}": float(row[f"{k}_length:{n}"][0])
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = float(row["arb:r"][2]) / DEG
         scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
@@ -282,6 +297,10 @@ def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
         defl[name], load[name] = u, f
     poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
                       {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
+    for part in model.node_lines:  # combined_sensors: rotations from the design frames
+        if f"beam:{part}:node_x" in row:
+            poses.node_mm[part] = row[f"beam:{part}:node_x"]
+            poses.node_rotation[part] = row[f"beam:{part}:node_R"]
     supports = {n: row[f"support:{n}"] for n in model.supports}
     points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
     return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
@@ -295,6 +314,9 @@ def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
     :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
     part (rotation (n, 3, 3), displacement (n, 3)))."""
     scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    scalars.update({f"{k}_length:{n}": data[f"{k}_length:{n}"][:, 0]
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
         scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]

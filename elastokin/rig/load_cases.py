@@ -30,9 +30,11 @@ from elastokin.errors import SolverError
 from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
+from elastokin.rig.channels import LOAD_CASES
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
+    motion_ratio_columns,
     steer_sign,
     wheel_column_tangents,
 )
@@ -237,6 +239,9 @@ def sweep_columns(by_side: dict, suspension, drive: Drive, static: dict[str, Ste
         out[side] = {**cols, **mine, **characteristics(by_side[side], view, static[side],
                                                         steering_rows=steering_rows),
                      **shared}
+        case = LOAD_CASES.get(drive.load_case)  # vehicle loads are not in the table
+        if case is not None and case.input == "wheel_travel_mm":  # the travel cases
+            out[side].update(motion_ratio_columns(out[side]))
     return out
 
 
