@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectConnectorSpringDamper
 
+from elastokin.mbs.geometry import of
 from elastokin.mbs.user_functions import (
     DEG_PER_RAD,
     attach_user_function,
@@ -45,11 +46,14 @@ def stop_function(law, kind: str, symbolic: bool):
 def add_stop(model, stop) -> int:
     """The stop ``stop`` (:class:`~elastokin.config.suspension.Stop`) between its parts."""
     mbs = model.mbs
-    m0 = model.position_marker(stop.parts[0], stop.points_mm[0])
-    m1 = model.position_marker(stop.parts[1], stop.points_mm[1])
-    obj = mbs.AddObject(ObjectConnectorSpringDamper(
+    this = of("stops", stop.name, lambda x: x)
+    m0 = model.position_marker(stop.parts[0], lambda s: this(s).points_mm[0])
+    m1 = model.position_marker(stop.parts[1], lambda s: this(s).points_mm[1])
+    obj = model.track("object", mbs.AddObject(ObjectConnectorSpringDamper(
         markerNumbers=[m0, m1], referenceLength=stop.contact_length_mm, stiffness=0.0,
-        damping=0.0, name=f"stop:{stop.name}"))
+        damping=0.0, name=f"stop:{stop.name}")), "referenceLength",
+        lambda s, _: this(s).contact_length_mm)
+    model.geometry.fixed.append(lambda s, _: (this(s).kind, this(s).law))
     symbolic = model.options.user_functions == "symbolic"
     attach_user_function(model, obj, "springForceUserFunction",
                          stop_function(stop.law, stop.kind, symbolic), symbolic)
@@ -64,8 +68,10 @@ def add_anti_roll_bar(model, bar) -> int:
     ADAMS/Car's revolute joint between them, without a redundant constraint when the mounts
     are ideal revolutes)."""
     mbs = model.mbs
-    m0 = model.rigid_marker(bar.parts[0], bar.position_mm, bar.frame)
-    m1 = model.rigid_marker(bar.parts[1], bar.position_mm, bar.frame)
+    this = of("anti_roll_bar", None, lambda x: x)
+    m0, m1 = (model.rigid_marker(part, lambda s: this(s).position_mm, lambda s: this(s).frame)
+              for part in bar.parts)
+    model.geometry.fixed.append(lambda s, _: this(s).law)
     k = bar.law.rate_at_zero / RAD  # N*mm/rad
     rates = [BAR_TRANSLATION_RATE] * 3 + [BAR_BENDING_RATE] * 2
     obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
@@ -92,8 +98,10 @@ def add_steering_lock(model, steering) -> str:
     """The support holding the rack (:class:`~elastokin.config.suspension.Steering`) along
     its axis at its travel; active in every solve, at the travel unless a path is given."""
     # a lock: active from the start, so that every constraint count sees the rack held
-    model.add_support(STEERING_LOCK, steering.part, steering.position_mm, (0, 0, 1, 0, 0, 0),
-                      frame=frame_from_z(steering.axis),
+    this = of("steering", None, lambda x: x)
+    model.geometry.fixed.append(lambda s, _: this(s).travel_mm)  # the lock's offset
+    model.add_support(STEERING_LOCK, steering.part, lambda s: this(s).position_mm,
+                      (0, 0, 1, 0, 0, 0), frame=lambda s: frame_from_z(this(s).axis),
                       lock=np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0]),
                       item=("steering_gear", "steering_gear"))
     return STEERING_LOCK

@@ -40,7 +40,8 @@ def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
     s = model.suspension
     return {side: model.add_support(PATCH_SUPPORT if side == s.side
                                     else f"{PATCH_SUPPORT}:{side}", w.part,
-                                    w.contact_patch_mm, HOLD_Z)
+                                    lambda x, side=side: x.wheels[side].contact_patch_mm,
+                                    HOLD_Z)
             for side, w in s.wheels.items()}
 
 

@@ -51,6 +51,7 @@ from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, ad
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
+from elastokin.mbs.geometry import Geometry, item_preloads, of
 from elastokin.mbs.loads import LoadRecorder
 from elastokin.mbs.options import NO_LOADS, ModelOptions
 from elastokin.physics.states import PartPoses
@@ -59,6 +60,19 @@ __all__ = ["DEG", "EXUDYN_VERSION", "NO_LOADS", "ModelOptions", "SuspensionModel
 
 #: Newton residual below which a step has converged (N, N*mm, mm): the residual noise floor
 ABSOLUTE_TOLERANCE = 1e-6
+
+
+def joint_points(j) -> tuple[np.ndarray, np.ndarray]:
+    """Where each part's marker of joint ``j`` sits (mm, config frame): at its position, each
+    moved by its part's as-built shift (assembly clearance; the static solve closes the gap)
+    and part 0's by the joint's offset along its z (a rack held at travel_mm: the constraint
+    then puts part 1 there)."""
+    shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
+        (np.asarray(j.part_shift_mm[0], float), np.asarray(j.part_shift_mm[1], float))
+    if list(j.constrained) == [1, 1, 1, 0, 0, 0] and not j.offset_mm:
+        return j.position_mm + shift0, j.position_mm + shift1
+    frame = np.asarray(j.frame, float)
+    return j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0, j.position_mm + shift1
 
 
 class SuspensionModel:
@@ -88,23 +102,17 @@ class SuspensionModel:
         self.references = references if references is not None else {}
         self.options = options
         self.balancing = balancing
-        self.balancing_offsets = dict(balancing_offsets or {})
         self.friction_spec = friction_spec
         self.substeps = friction_spec.substeps if friction_spec is not None else 1
-        given = preloads.bushing_preload if preloads is not None else {}
         # bushing loads at the design position (N, N*mm) -> initial deflections of the
         # (scaled) laws, so that a stiffer bushing carries the same preload
-        self.bushing_preload = {
-            b.name: (np.asarray(given[b.name], float) if b.name in given else
-                     np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)]))
-            for b in suspension.bushings}
-        self.initial_deflection = {
-            b.name: np.array([law.scaled(options.stiffness_scale).deflection_at(f)
-                              for law, f in zip(b.laws, self.bushing_preload[b.name])])
-            for b in suspension.bushings}
-        forces = preloads.spring_force_N if preloads is not None else {}
-        self.spring_force = {sp.name: forces.get(sp.name, sp.design_force_N())
-                             for sp in suspension.springs}
+        self.preloads = item_preloads(suspension, options.stiffness_scale, preloads,
+                                      balancing_offsets)
+        self.bushing_preload = self.preloads.bushing_preload
+        self.initial_deflection = self.preloads.initial_deflection
+        self.spring_force = self.preloads.spring_force
+        #: the design-dependent parameters, for twins in place (:mod:`elastokin.mbs.geometry`)
+        self.geometry = Geometry()
         self.keep_alive: list = []  # symbolic input paths of the current solve
         self.bushing_functions: list = []  # symbolic bushing laws (must outlive the model)
         self.supports: dict[str, dict] = {}
@@ -125,6 +133,11 @@ class SuspensionModel:
 
     # ------------------------------------------------------------------ building
     @property
+    def balancing_offsets(self) -> dict[str, np.ndarray]:
+        """A balancing model's stiff rotational springs' offsets (rad), by bushing."""
+        return self.preloads.balancing_offsets
+
+    @property
     def wheel_part(self) -> str:
         return self.suspension.wheel.part
 
@@ -144,16 +157,19 @@ class SuspensionModel:
         self.node = {n: mbs.GetObject(b)["nodeNumber"] for n, b in self.body.items()}
         #: the flexible parts (beam elements), by part name
         self.beams = {b.part: BeamBody(mbs, b) for b in s.beams if not b.rigid}
-        self.joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
-                                               j.constrained, j.offset_mm, j.part_shift_mm)
-                       for j in s.joints}
+        self.joints = {j.name: self._add_joint(j) for j in s.joints}
         self.links: dict[str, int] = {}
         for link in s.links:
-            m0 = self.position_marker(link.parts[0], link.points_mm[0])
-            m1 = self.position_marker(link.parts[1], link.points_mm[1])
-            length = float(np.linalg.norm(link.points_mm[1] - link.points_mm[0]))
-            self.links[link.name] = mbs.AddObject(ObjectConnectorDistance(
-                markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
+            points = of("links", link.name, lambda lk: lk.points_mm)
+            m0 = self.position_marker(link.parts[0], lambda s, pts=points: pts(s)[0])
+            m1 = self.position_marker(link.parts[1], lambda s, pts=points: pts(s)[1])
+
+            def length(s, _=None, pts=points) -> float:
+                return float(np.linalg.norm(pts(s)[1] - pts(s)[0]))
+
+            self.links[link.name] = self.track("object", mbs.AddObject(ObjectConnectorDistance(
+                markerNumbers=[m0, m1], distance=length(s), name=f"link:{link.name}")),
+                "distance", length)
         self.bushings = {b.name: add_bushing(self, b) for b in s.bushings}
         spec = self.friction_spec
         self.friction = {} if spec is None else {
@@ -161,13 +177,21 @@ class SuspensionModel:
             for name, torque in spec.torque_Nmm.items()}
         self.springs = {}
         for sp in s.springs:
-            m0 = self.position_marker(sp.parts[0], sp.seats_mm[0])
-            m1 = self.position_marker(sp.parts[1], sp.seats_mm[1])
-            # compression force P at the installed length L: reference length L + P / k
-            ref_len = sp.installed_length_mm + self.spring_force[sp.name] / sp.rate_N_per_mm
-            self.springs[sp.name] = mbs.AddObject(ObjectConnectorSpringDamper(
-                markerNumbers=[m0, m1], referenceLength=ref_len, stiffness=sp.rate_N_per_mm,
-                damping=0.0, name=f"spring:{sp.name}"))
+            spring = of("springs", sp.name, lambda x: x)
+            m0 = self.position_marker(sp.parts[0], lambda s, f=spring: f(s).seats_mm[0])
+            m1 = self.position_marker(sp.parts[1], lambda s, f=spring: f(s).seats_mm[1])
+
+            def ref_len(s, preloads, f=spring) -> float:
+                # compression force P at the installed length L: reference length L + P / k
+                x = f(s)
+                return x.installed_length_mm + preloads.spring_force[x.name] / x.rate_N_per_mm
+
+            number = mbs.AddObject(ObjectConnectorSpringDamper(
+                markerNumbers=[m0, m1], referenceLength=ref_len(s, self.preloads),
+                stiffness=sp.rate_N_per_mm, damping=0.0, name=f"spring:{sp.name}"))
+            self.track("object", number, "referenceLength", ref_len)
+            self.springs[sp.name] = self.track("object", number, "stiffness",
+                                               lambda s, _, f=spring: f(s).rate_N_per_mm)
         self.stops = {st.name: add_stop(self, st) for st in s.stops}
         bar = s.axle.anti_roll_bar if s.axle is not None else None
         self.anti_roll_bar = add_anti_roll_bar(self, bar) if bar is not None else None
@@ -248,42 +272,65 @@ class SuspensionModel:
                                     [int(c) for c in constrained])
         exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: changing '{name}'")
 
-    def rigid_marker(self, part: str, position: np.ndarray, frame: np.ndarray) -> int:
+    def track(self, kind: str, number, param: str, getter) -> int:
+        """Register a design-dependent parameter of an item (:mod:`elastokin.mbs.geometry`);
+        returns ``number``."""
+        self.geometry.track(kind, number, param, getter)
+        return number
+
+    def _where(self, position):
+        """(value at this model's design, getter of a suspension or None) of a position
+        given as an array or as a function of the suspension (tracked for twins)."""
+        if callable(position):
+            return position(self.suspension), position
+        return position, None
+
+    def rigid_marker(self, part: str, position, frame) -> int:
         """A rigid marker on ``part`` at ``position`` (mm, config frame, design position)
-        with axes ``frame`` (columns); on a beam part, at one of its named nodes."""
+        with axes ``frame`` (columns); on a beam part, at one of its named nodes. Either may
+        be a function of the suspension: the marker then follows a twin's design
+        (:mod:`elastokin.mbs.geometry`)."""
+        (position, where), (frame, axes) = self._where(position), self._where(frame)
         if part in self.beams:
             return self.beams[part].rigid_marker(position, frame)
-        local = np.asarray(position) - self.ref[part]
-        return self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body_or_ground(part),
-                                                  localHT=exu.HT(np.asarray(frame), local)))
+        ref = self.ref[part]
+        local = np.asarray(position) - ref
+        marker = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body_or_ground(part),
+                                                    localHT=exu.HT(np.asarray(frame), local)))
+        if where is not None or axes is not None:
+            def ht(s, _, p=where or (lambda s: position), f=axes or (lambda s: frame)):
+                return exu.HT(np.asarray(f(s), float), np.asarray(p(s)) - ref)
 
-    def position_marker(self, part: str, position: np.ndarray) -> int:
+            self.track("marker", marker, "localHT", ht)
+        return marker
+
+    def position_marker(self, part: str, position) -> int:
+        """A position marker on ``part`` at ``position`` (as :meth:`rigid_marker`'s)."""
+        position, where = self._where(position)
         if part in self.beams:
             return self.beams[part].position_marker(position)
-        local = np.asarray(position) - self.ref[part]
-        return self.mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body_or_ground(part),
-                                                     localPosition=local))
+        ref = self.ref[part]
+        local = np.asarray(position) - ref
+        marker = self.mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body_or_ground(part),
+                                                       localPosition=local))
+        if where is not None:
+            self.track("marker", marker, "localPosition",
+                       lambda s, _: np.asarray(where(s)) - ref)
+        return marker
 
-    def _add_joint(self, name, parts, position, frame, constrained, offset_mm=0.0,
-                   part_shift_mm=None) -> int:
-        # part_shift_mm: where each part's attachment sits relative to ``position`` (an
-        # as-built joint with assembly clearance); the static solve closes the gap
-        shift0, shift1 = (np.zeros(3), np.zeros(3)) if part_shift_mm is None else \
-            (np.asarray(part_shift_mm[0], float), np.asarray(part_shift_mm[1], float))
-        if list(constrained) == [1, 1, 1, 0, 0, 0] and not offset_mm:
+    def _add_joint(self, j) -> int:
+        joint = of("joints", j.name, lambda x: x)
+        if list(j.constrained) == [1, 1, 1, 0, 0, 0] and not j.offset_mm:
             # 3 algebraic equations instead of the generic joint's 6
             return self.mbs.AddObject(ObjectJointSpherical(
-                markerNumbers=[self.position_marker(parts[0], position + shift0),
-                               self.position_marker(parts[1], position + shift1)],
-                name=f"joint:{name}"))
-        # an offset along the joint's z (a rack held at travel_mm) moves part 0's marker:
-        # the constraint then puts part 1 there
-        frame = np.asarray(frame, float)
-        m0 = self.rigid_marker(parts[0], position + float(offset_mm) * frame[:, 2] + shift0,
-                               frame)
-        m1 = self.rigid_marker(parts[1], position + shift1, frame)
+                markerNumbers=[self.position_marker(j.parts[k], lambda s, k=k:
+                                                    joint_points(joint(s))[k])
+                               for k in (0, 1)], name=f"joint:{j.name}"))
+        m0, m1 = (self.rigid_marker(j.parts[k], lambda s, k=k: joint_points(joint(s))[k],
+                                    lambda s: joint(s).frame) for k in (0, 1))
         return self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"joint:{name}"))
+            markerNumbers=[m0, m1], constrainedAxes=list(j.constrained),
+            name=f"joint:{j.name}"))
 
     def _add_sensors(self) -> None:
         """Record the model's own outputs in C++ at each load step (no Python call per step):
@@ -336,14 +383,10 @@ class SuspensionModel:
         (:mod:`elastokin.mbs.loads`; default the support's own name). Returns ``name``."""
         if name in self.supports or name in self.loads:
             raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
-        point = np.asarray(point_mm, float)
-        axes = np.eye(3) if frame is None else np.asarray(frame, float)
-        if base is None:
-            m_ground = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.ground,
-                                                          localHT=exu.HT(axes, point)))
-        else:
-            m_ground = self.rigid_marker(base, point, axes)
-        m_part = self.rigid_marker(part, point, axes)
+        axes = np.eye(3) if frame is None else frame
+        m_ground = self.rigid_marker(self.suspension.ground if base is None else base,
+                                     point_mm, axes)
+        m_part = self.rigid_marker(part, point_mm, axes)
         obj = self.mbs.AddObject(ObjectJointGeneric(
             markerNumbers=[m_ground, m_part], constrainedAxes=list(constrained),
             activeConnector=lock is not None, name=name))
@@ -369,7 +412,7 @@ class SuspensionModel:
         if marker_of is not None:
             marker = {**self.supports, **self.loads}[marker_of]["marker"]
         else:
-            marker = self.rigid_marker(part, np.asarray(point_mm, float), np.eye(3))
+            marker = self.rigid_marker(part, point_mm, np.eye(3))
         kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
         load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
         self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
@@ -382,12 +425,20 @@ class SuspensionModel:
         step (``ModelState.points[name]``, mm). Returns ``name``."""
         if f"point:{name}" in self.sensors:
             raise ModelError(f"{self.suspension.source}: point sensor '{name}' exists already")
-        local = np.asarray(point_mm, float) - self.ref[part]
+        point, where = self._where(point_mm)
+        ref = self.ref[part]
+        local = np.asarray(point, float) - ref
         self.point_sensors[name] = (part, local)
-        self.sensors[f"point:{name}"] = self.mbs.AddSensor(SensorBody(
+        sensor = self.sensors[f"point:{name}"] = self.mbs.AddSensor(SensorBody(
             bodyNumber=self.body[part], localPosition=local.tolist(),
             outputVariableType=exu.OutputVariableType.Position, storeInternal=True,
             writeToFile=False))
+        if where is not None:
+            def local_of(s, _):
+                return np.asarray(where(s), float) - ref
+
+            self.track("point", name, "localPosition", local_of)
+            self.track("sensor", sensor, "localPosition", lambda s, p: local_of(s, p).tolist())
         return name
 
     def start_from(self, coordinates) -> None:

@@ -218,19 +218,34 @@ class Residual:
         self.n2 = self.solver.GetODE2size()
         self.n = self.n2 + self.solver.GetAEsize()
         self.current = exu.ConfigurationType.Current
-        self.coords = coords = part_coordinates(model)
-        rows = row_dependencies(model)
-        perturbed, scatter = [], []  # coordinates of each perturbation; (perturbation,
-        for cls in colour_classes(rows, list(coords)):  # row, column) of every entry
-            for k in range(6):
-                e = len(perturbed)
-                perturbed.append(np.array([coords[p][k] for p in cls]))
-                for p in cls:
-                    for r, deps in rows:
-                        if p in deps:
-                            scatter += [(e, int(i), int(coords[p][k])) for i in r]
-        self.perturbed = perturbed
-        self.scatter = np.array(scatter).T
+        self.coords = part_coordinates(model)
+        self._structure = None
+
+    @property
+    def perturbed(self) -> list[np.ndarray]:
+        """The coordinates of each perturbation (one per colour class and direction)."""
+        return self.structure()[0]
+
+    @property
+    def scatter(self) -> np.ndarray:
+        """(perturbation, row, column) of every Jacobian entry, as three rows."""
+        return self.structure()[1]
+
+    def structure(self) -> tuple[list[np.ndarray], np.ndarray]:
+        if self._structure is None:  # made once, when a Jacobian is first asked for
+            coords = self.coords
+            rows = row_dependencies(self.model)
+            perturbed, scatter = [], []
+            for cls in colour_classes(rows, list(coords)):
+                for k in range(6):
+                    e = len(perturbed)
+                    perturbed.append(np.array([coords[p][k] for p in cls]))
+                    for p in cls:
+                        for r, deps in rows:
+                            if p in deps:
+                                scatter += [(e, int(i), int(coords[p][k])) for i in r]
+            self._structure = perturbed, np.array(scatter).T
+        return self._structure
 
     def set_state(self, t: float, q: np.ndarray, lam: np.ndarray) -> None:
         sd = self.mbs.systemData
