@@ -130,7 +130,11 @@ def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, ba
             M[:n, n + i] = res.residual() - r0[0]
             model.mbs.SetObjectParameter(obj, "referenceLength", length)
         y0 = np.r_[rec.coordinates, rec.multipliers]
-        for j in range(n):
+        # a pad's reaction is its support's multipliers (Exudyn's ForceLocal of a generic
+        # joint, in the fixed frame of its ground marker): only those columns
+        sd = model.mbs.systemData
+        for j in sorted(n2 + int(i) for sup in rec.supports.values()
+                        for i in sd.GetObjectLTGAE(model.supports[sup]["object"])):
             dj = 1e-6 * max(1.0, abs(y0[j]))
             pads = []
             for sign in (1.0, -1.0):

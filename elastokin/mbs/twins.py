@@ -70,6 +70,7 @@ class Twin:
                                                self.preloads)
         self.model = model if in_place else build()
         self._values: list = []
+        self._changed: list[int] = []  # the entries whose values differ from the model's
 
     def __getattr__(self, name):
         model = self.__dict__.get("model")
@@ -89,10 +90,12 @@ class Twin:
             yield self.model
             return
         model, g = self.base, self.base.geometry
-        self._values += g.values(self.suspension, self.preloads, len(self._values))
+        start = len(self._values)
+        self._values += g.values(self.suspension, self.preloads, start)
         own = base_values(model)
-        changed = [i for i, (a, b) in enumerate(zip(own, self._values)) if not same(a, b)]
-        kept = model.preloads
+        self._changed += [i for i in range(start, len(own))
+                          if not same(own[i], self._values[i])]
+        changed, kept = self._changed, model.preloads
         try:
             for i in changed:
                 set_parameter(model, *g.entries[i][:3], self._values[i])

@@ -28,6 +28,7 @@ from elastokin.config.schema_rig import (
 from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
+from elastokin.rig.channels import STEERING_AXIS_COLUMNS
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
@@ -43,6 +44,7 @@ from elastokin.rig.drives import (
 )
 from elastokin.rig.pad import WheelInputs, run_pad, run_rig
 from elastokin.rig.paths import travel_path
+from elastokin.rig.steering import stacked_steering_axis_columns
 from elastokin.rig.sweeps import Sweep, static_rows
 
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
@@ -109,21 +111,34 @@ def design_tangents(columns: dict, twins: list, design: list, derived: np.ndarra
     NaN)."""
     rows = np.flatnonzero(derived[kept])
     n = int(kept.sum())
-    static = None if detail == "full" else static_rows(
+    static = np.arange(rows.size) if detail == "full" else static_rows(
         {k: np.asarray(v)[rows] for k, v in columns[s.side].items()})
-    tangents: dict[str, dict[str, np.ndarray]] = {side: {} for side in s.sides}
-    for k, (pair, per_sign) in enumerate(twins):
-        states, _ = design[k]
-        moved = {sign: sweep_columns(states[sign], m.suspension,
-                                     replace(per_sign[sign], recorded=derived), static)
-                 for sign, m in pair.models()}
+    # the columns on every twin, the steering axis left out: it is computed for all of them
+    # at once (stacked_steering_axis_columns: its fixed cost once)
+    moved = [{sign: sweep_columns(design[k][0][sign], m.suspension,
+                                  replace(per_sign[sign], recorded=derived),
+                                  np.zeros(0, int))
+              for sign, m in pair.models()} for k, (pair, per_sign) in enumerate(twins)]
+    if static.size and any(STEERING_AXIS_COLUMNS[0] in m[1][s.side] for m in moved):
         for side in s.sides:
+            cases = [(k, sign, m.suspension.on_side(side)) for k, (pair, _) in
+                     enumerate(twins) for sign, m in pair.models()]
+            axes = stacked_steering_axis_columns(
+                [([design[k][0][sign][side].step(i) for i in static], view)
+                 for k, sign, view in cases])
+            for (k, sign, _), cols in zip(cases, axes):
+                for name, values in cols.items():
+                    moved[k][sign][side][name][static] = values
+    tangents: dict[str, dict[str, np.ndarray]] = {side: {} for side in s.sides}
+    for k, (pair, _) in enumerate(twins):
+        for side in s.sides:
+            plus, minus = moved[k][1][side], moved[k][-1][side]
             for name in columns[side]:
-                if name == "branch" or name not in moved[1][side]:
+                if name == "branch" or name not in plus:
                     continue
                 t = tangents[side].setdefault(name, np.full((n, len(twins)), np.nan))
-                t[rows, k] = (np.asarray(moved[1][side][name], float)
-                              - np.asarray(moved[-1][side][name], float)) / (2.0 * pair.step)
+                t[rows, k] = (np.asarray(plus[name], float)
+                              - np.asarray(minus[name], float)) / (2.0 * pair.step)
     return tangents
 
 
