@@ -200,20 +200,34 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
             own[key] = Residual(twin.model, n, what)
         return own[key]
 
-    def fed(tw, sign, twin) -> StepInputs:
-        return StepInputs(twin.model, {k: np.asarray(v)[rows] for k, v in
-                                       tw.inputs[sign].items()}, n)
+    own_inputs = {k: _rows(v, rows) for k, v in inputs.items()}
+
+    def own_fed(tw, sign, twin) -> bool:
+        values = tw.inputs[sign]
+        return twin.in_place and values.keys() == own_inputs.keys() and all(
+            np.array_equal(_rows(v, rows), own_inputs[k]) for k, v in values.items())
+
+    def fed(tw, sign, twin) -> StepInputs | OwnInputs:
+        if own_fed(tw, sign, twin):
+            return OwnInputs(model, own_inputs, n)
+        return StepInputs(twin.model, {k: _rows(v, rows) for k, v in tw.inputs[sign].items()},
+                          n)
 
     try:
         A, _ = system_matrices(res, steps)
         B = np.empty((n, res.n, len(twins)))
+        r: dict = {}
+        # twins fed the model's own inputs first: the paths its solve set (at C++ speed, no
+        # Python user function per residual) are still there
+        order = sorted(((k, sign, twin) for k, tw in enumerate(twins)
+                        for sign, twin in tw.models()),
+                       key=lambda kst: not own_fed(twins[kst[0]], kst[1], kst[2]))
+        for k, sign, twin in order:
+            with twin.applied():
+                feed = fed(twins[k], sign, twin)  # assembled before a residual is made
+                r[k, sign] = _residuals(residual_of(twin), feed, steps)
         for k, tw in enumerate(twins):
-            r = {}
-            for sign, twin in tw.models():
-                with twin.applied():
-                    feed = fed(tw, sign, twin)  # assembled before a residual is made
-                    r[sign] = _residuals(residual_of(twin), feed, steps)
-            B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
+            B[:, :, k] = (r[k, 1] - r[k, -1]) / (2.0 * tw.step)
         dy = solve_tangents(A, B)
         design = []
         for k, tw in enumerate(twins):
@@ -228,6 +242,23 @@ def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarra
         for r in (res, *own.values()):
             r.close()
     return states, design
+
+
+def _rows(values, rows: np.ndarray) -> np.ndarray:
+    """An attachment's values (steps, k) at ``rows``."""
+    v = np.asarray(values, float)
+    return v.reshape(len(v), -1)[rows]
+
+
+class OwnInputs:
+    """A twin fed the model's own inputs: the paths the model's solve set stay (no Python
+    user function per residual); :class:`StepInputs`' interface."""
+
+    def __init__(self, model: SuspensionModel, values: Mapping[str, np.ndarray], n: int):
+        self.applied = {name: values.get(name, np.zeros((n, 3))) for name in model.loads}
+
+    def at(self, i: int) -> None:
+        return None
 
 
 class StepInputs:
