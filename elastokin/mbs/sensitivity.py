@@ -60,8 +60,19 @@ class LawVariation:
 
 def rxyz_matrix(theta: np.ndarray) -> np.ndarray:
     """Rotation matrix (..., 3, 3) of Tait-Bryan angles (..., 3) (rad) as Exudyn's ``Rxyz``
-    nodes use them: ``Rx(t0) @ Ry(t1) @ Rz(t2)`` (local -> global)."""
-    return _rxyz(np.asarray(theta, float))[0]
+    nodes use them: ``Rx(t0) @ Ry(t1) @ Rz(t2)`` (local -> global), multiplied out."""
+    theta = np.asarray(theta, float)
+    (c0, c1, c2), (s0, s1, s2) = np.moveaxis(np.cos(theta), -1, 0), \
+        np.moveaxis(np.sin(theta), -1, 0)
+    R = np.empty(theta.shape[:-1] + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = c1 * c2, -c1 * s2, s1
+    R[..., 1, 0] = c0 * s2 + s0 * s1 * c2
+    R[..., 1, 1] = c0 * c2 - s0 * s1 * s2
+    R[..., 1, 2] = -s0 * c1
+    R[..., 2, 0] = s0 * s2 - c0 * s1 * c2
+    R[..., 2, 1] = s0 * c2 + c0 * s1 * s2
+    R[..., 2, 2] = c0 * c1
+    return R
 
 
 def rxyz_derivatives(theta: np.ndarray) -> np.ndarray:

@@ -354,7 +354,9 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         return model.ref[part] + disp[part] + rot[part] @ local
 
     data: dict[str, np.ndarray] = {}
-    for name in model.pose_refs:
+    # the parts' poses, and the rig bodies' where recorded (the loads' frames)
+    for name in [*model.pose_refs, *(b for b in model.rig_bodies
+                                     if f"part:{b}:R" in model.sensors)]:
         data[f"part:{name}:R"] = rot[name].reshape(-1, 9)
         data[f"part:{name}:disp"] = disp[name]
     for name, (part, local) in model.point_sensors.items():
