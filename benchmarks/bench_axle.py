@@ -12,7 +12,8 @@ every step, as one ``SolveStatic``, and every channel of both wheels), best of `
 per point = time / the drive's steps. The ratio axle / corner is per point of the same load
 case. Suspensions, each at its own rig: the double wishbone axle (rack, anti-roll bar,
 bushings, stops), the case study (a decoupled mirrored axle), the multi-link, the
-semi-trailing arm, the solid axles with a Panhard rod and with a Watt's linkage.
+semi-trailing arm, the solid axles with a Panhard rod and with a Watt's linkage, the push-rod
+axle with rockers and a heave spring.
 
 The twist beam (configs/twist_beam_axle.yaml) is timed against the same axle with a rigid
 cross beam (:func:`elastokin.config.variants.rigid_beams`; built with the flexible axle's
@@ -47,7 +48,8 @@ ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = {name: ROOT / "configs" / f"{file}.yaml" for name, file in (
     ("double_wishbone_axle", "double_wishbone_axle"), ("case_study", "pseudo_mcpherson"),
     ("multilink", "multilink_axle"), ("semi_trailing_arm", "semi_trailing_arm_axle"),
-    ("solid_axle_panhard", "solid_axle_panhard"), ("solid_axle_watt", "solid_axle_watt"))}
+    ("solid_axle_panhard", "solid_axle_panhard"), ("solid_axle_watt", "solid_axle_watt"),
+    ("fsae_pushrod", "fsae_pushrod_axle"))}
 TWIST_BEAM = ROOT / "configs" / "twist_beam_axle.yaml"
 
 

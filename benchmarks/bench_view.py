@@ -9,11 +9,15 @@ the parts' poses at every rig step costs the K&C run.
   waits until it is scrolled to), then from scrolling to the view to the view drawn and
   ready (plotly.js run, the first frame drawn), medians of ``--repeat``, and the CPU time
   Chromium spent (all its processes, and the page's renderer alone: what the time comes to
-  on an idle machine, where the wall time is inflated by other work);
+  on an idle machine, where the wall time is inflated by other work); and the same page
+  with plotly's full bundle in place of the gl3d partial bundle the view ships
+  (``full_bundle``), measured in the same run;
 - **view**: per config, ``elastokin view`` in a fresh process (start-up, imports and the
   page) and in-process (the draft, the scene and the page), the page's size and load time;
 - **poses**: every load case of the rig on one built model with the poses recorded against
-  the same without (``PoseSeries.stack`` replaced by a no-op), best of ``--repeat``.
+  the same without (``PoseSeries.stack`` replaced by a no-op), best of ``--repeat``;
+- **beam_nodes**: the twist beam's load cases with and without its beam's node poses
+  recorded (the sensors of ``BeamBody.record_line``), alternately, best of ``--repeat``.
 
 Prints the figures and writes ``benchmarks/results/bench_view.json`` (``--quick``:
 ``bench_view_quick.json``), with the machine's load average before and after. Browser figures
@@ -36,6 +40,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # tests/browser.py: headless Chromium over a pipe
+
+import numpy as np  # noqa: E402
 
 from elastokin.version import __version__  # noqa: E402
 
@@ -91,12 +97,12 @@ def chromium_cpu(pid: int) -> dict:
 
 def page_parts(path: Path) -> dict:
     """Bytes of a page: in all, plotly.js, the view's data, the rest."""
+    from elastokin.report.view3d import plotly_js as bundle
+
     text = path.read_text(encoding="utf-8")
     data = re.search(r'<script type="application/json" id="ekv-data">(.*?)</script>', text,
                      re.S)
-    from plotly.offline import get_plotlyjs
-
-    plotly_js = len(get_plotlyjs().encode()) if "Plotly" in text else 0
+    plotly_js = len(bundle().encode()) if bundle() in text else 0
     data_bytes = len(data.group(1).encode()) if data else 0
     total = path.stat().st_size
     return {"bytes": total, "plotly_js_bytes": plotly_js, "view_data_bytes": data_bytes,
@@ -131,7 +137,25 @@ def report_figures(quick: bool, repeat: int, folder: Path) -> dict:
            "write_results_s": round(write_s, 3), "view_in_report_s": round(view_s, 3),
            **page_parts(folder / "report.html")}
     out["load"] = load_times((folder / "report.html").resolve().as_uri(), repeat, lazy=True)
+    out["full_bundle"] = full_bundle(folder / "report.html", repeat)
     return out
+
+
+def full_bundle(page: Path, repeat: int) -> dict | None:
+    """The same page with plotly's full bundle (the plotly Python package's, 4.8 MB) in place
+    of the gl3d partial bundle the view ships: its size and load times, for the comparison
+    (None without the plotly package)."""
+    try:
+        from plotly.offline import get_plotlyjs
+    except ImportError:
+        return None
+    from elastokin.report.view3d import plotly_js
+
+    full = page.with_name("report_full_bundle.html")
+    full.write_text(page.read_text(encoding="utf-8").replace(plotly_js(), get_plotlyjs()),
+                    encoding="utf-8")
+    return {"bytes": full.stat().st_size, "plotly_js_bytes": len(get_plotlyjs().encode()),
+            "load": load_times(full.resolve().as_uri(), repeat, lazy=True)}
 
 
 def view_figures(config: Path, repeat: int, folder: Path, quick: bool) -> dict:
@@ -213,6 +237,55 @@ def pose_cost(quick: bool, repeat: int) -> dict:
             "parallel_travel": stack_cost(model, repeat)}
 
 
+def _same(u, v) -> bool:
+    u, v = np.asarray(u), np.asarray(v)
+    return np.array_equal(u, v, equal_nan=u.dtype.kind == "f")
+
+
+def beam_node_cost(quick: bool, repeat: int) -> dict:
+    """The twist beam's load cases (``quick``: its opposite travel only) on a model that
+    records its beam's node poses against the same model without (``BeamBody.record_line``
+    recording nothing), alternately, best of ``repeat``; every column checked identical."""
+    from elastokin.config.loading import read_yaml, suspension_from_dict
+    from elastokin.mbs import beams
+    from elastokin.mbs.design import build_model
+    from elastokin.rig.load_cases import run_load_cases_sides
+
+    config = ROOT / "configs" / "twist_beam_axle.yaml"
+    data = read_yaml(config)[0]
+    if quick:
+        data["rig"] = {**{k: None for k in ("vertical_force", "lateral_force",
+                                            "longitudinal_force_patch", "aligning_torque",
+                                            "longitudinal_force_centre", "roll_vertical_force",
+                                            "single_wheel_travel", "steering")},
+                       "parallel_travel": {"rebound_mm": -10, "bump_mm": 10, "step_mm": 10}}
+    s = suspension_from_dict(data, str(config))
+    record = beams.BeamBody.record_line
+    models = {"with_nodes": build_model(s)}
+    beams.BeamBody.record_line = lambda self, sensors: []
+    try:
+        models["without_nodes"] = build_model(s)
+    finally:
+        beams.BeamBody.record_line = record
+    best = {k: float("inf") for k in models}
+    sweeps = {}
+    for _ in range(max(repeat, 2)):
+        for k, model in models.items():
+            t0 = time.perf_counter()
+            sweeps[k] = run_load_cases_sides(model, "bench")
+            best[k] = min(best[k], time.perf_counter() - t0)
+    a, b = (sweeps[k][s.side] for k in models)
+    same = all(set(x.columns) == set(y.columns) and all(
+        _same(x.columns[c], y.columns[c]) for c in x.columns) for x, y in zip(a, b))
+    steps = sum(sw.steps for sw in a)
+    nodes = sum(len(v) for v in models["with_nodes"].node_lines.values())
+    return {"config": str(config.relative_to(ROOT)), "quick": quick, "steps": steps,
+            "nodes_recorded": nodes, "with_nodes_s": round(best["with_nodes"], 4),
+            "without_nodes_s": round(best["without_nodes"], 4),
+            "ratio": round(best["with_nodes"] / best["without_nodes"], 4),
+            "identical_columns": bool(same)}
+
+
 def main() -> None:
     from elastokin.config.vehicle import is_vehicle_file
 
@@ -238,7 +311,8 @@ def main() -> None:
                   "report": report_figures(args.quick, repeat, folder / "res"),
                   "view": {c.stem: view_figures(c, repeat, folder, args.quick)
                            for c in configs},
-                  "poses": pose_cost(args.quick, repeat)}
+                  "poses": pose_cost(args.quick, repeat),
+                  "beam_nodes": beam_node_cost(args.quick, repeat)}
     result["load_average_after"] = os.getloadavg()
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=2) + "\n")
@@ -249,6 +323,9 @@ def main() -> None:
           f"{r['other_bytes'] / 1e6:.2f}); {r['frames']} frames; view adds "
           f"{r['view_in_report_s']:.2f} s to writing the results ({r['write_results_s']:.2f} s)"
           f"; load {r['load']}")
+    if r["full_bundle"]:
+        print(f"the same with plotly's full bundle: {r['full_bundle']['bytes'] / 1e6:.2f} MB; "
+              f"load {r['full_bundle']['load']}")
     for c, v in result["view"].items():
         print(f"view {c}: process {v.get('process_s')} s, in process {v['in_process_s']:.2f} s,"
               f" {v['bytes'] / 1e6:.2f} MB, load {v.get('load')}")
@@ -256,6 +333,10 @@ def main() -> None:
     print(f"poses recorded ({p['config']}): {p['with_poses_s']:.3f} s against "
           f"{p['without_poses_s']:.3f} s without (x{p['ratio']:.3f}); stacking "
           f"{p['parallel_travel']}")
+    n = result["beam_nodes"]
+    print(f"beam nodes recorded ({n['config']}, {n['nodes_recorded']} nodes, {n['steps']} "
+          f"steps): {n['with_nodes_s']:.3f} s against {n['without_nodes_s']:.3f} s without "
+          f"(x{n['ratio']:.3f}); identical columns: {n['identical_columns']}")
     print(f"wrote {out}")
 
 

@@ -24,7 +24,8 @@ CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 KINDS = {"multilink_axle.yaml": "_multi_link",
          "semi_trailing_arm_axle.yaml": "_semi_trailing_arm",
          "solid_axle_panhard.yaml": "_solid_axle",
-         "solid_axle_watt.yaml": "_solid_axle"}
+         "solid_axle_watt.yaml": "_solid_axle",
+         "double_wishbone_rear_axle.yaml": "_double_wishbone"}
 #: ADAMS/Car symmetry of hardpoints and bushings that are not left/right pairs
 SINGLE = {"solid_axle_panhard.yaml": {"axle_centre", "panhard_chassis", "panhard_axle",
                                       "panhard_chassis_bushing", "panhard_axle_bushing"},

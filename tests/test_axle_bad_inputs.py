@@ -145,7 +145,7 @@ INPUT_CASES = [  # issue 24: values that cannot be meant, names the mirror takes
 #: exist on both sides (axle.both_sides)
 SOLID_AXLE_CASES = [
     ("both_sides_unknown", _edit("axle.both_sides", ["coil", "coil_spring"]),
-     "axle.both_sides[1]", ["no connection, spring or stop 'coil_spring'"]),
+     "axle.both_sides[1]", ["no connection, spring, damper or stop 'coil_spring'"]),
     ("both_sides_twice", _edit("axle.both_sides", ["coil", "coil"]), "axle.both_sides[1]",
      ["listed twice"]),
     ("both_sides_corner_item", _edit("axle.both_sides", ["coil", "arb_bearing"]),

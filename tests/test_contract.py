@@ -7,9 +7,10 @@ static state, a repeated run gives identical numbers, the suspension is not muta
 pickle (for dask); and, on the nominal pseudo-McPherson and the double wishbone, toe, camber and
 travel do not depend on the side (left/right mirror) or on the frame (ISO 8855 or ADAMS/Car).
 The rig is each config's in few, large steps, so that the whole contract runs in seconds. The
-shipped axle kinds (multi-link, semi-trailing arm, solid axles) are variants too, and the solid
-axle with a Panhard rod (one shared part carrying both wheels, items on both sides) is mirrored
-and turned into the other frame as well.
+shipped axle kinds (multi-link, semi-trailing arm, solid axles, the HMMWV's rear double
+wishbone, the push-rod axle) are variants too; the solid axle with a Panhard rod (one shared
+part carrying both wheels, items on both sides) and the push-rod axle (a heave spring joining
+the two sides' rockers) are mirrored and turned into the other frame as well.
 """
 
 from __future__ import annotations
@@ -38,7 +39,9 @@ TWIST_BEAM = CONFIGS / "twist_beam_axle.yaml"
 KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
          "semi_trailing_arm": CONFIGS / "semi_trailing_arm_axle.yaml",
          "solid_axle_panhard": CONFIGS / "solid_axle_panhard.yaml",
-         "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml"}
+         "solid_axle_watt": CONFIGS / "solid_axle_watt.yaml",
+         "double_wishbone_rear": CONFIGS / "double_wishbone_rear_axle.yaml",
+         "fsae_pushrod": CONFIGS / "fsae_pushrod_axle.yaml"}
 
 
 def coarse_rig(data: dict) -> dict:
@@ -230,6 +233,14 @@ def _transform_config(data: dict, M: np.ndarray, side: str | None, frame: dict |
             c["euler_zxz_deg"] = Rotation.from_matrix(M @ B @ flip).as_euler(
                 "ZXZ", degrees=True).tolist()
     d["wheel"]["spin_axis"] = vec(d["wheel"]["spin_axis"])
+    if side and side != d["side"]:  # an item across the car names the other side's copies
+        old, new = (f"_{other}" for other in (side, d["side"]))
+        for section in ("springs", "dampers"):
+            for item in (d.get(section) or {}).values():
+                for key in ("parts", "seats", "points"):
+                    if key in item:
+                        item[key] = [new.join(p.rsplit(old, 1)) if isinstance(p, str)
+                                     and p.endswith(old) else p for p in item[key]]
     if side:
         d["side"] = side
     if frame:
@@ -245,10 +256,17 @@ def _vehicle_columns(data: dict):
             for sw in run_drive_sides(model, "m", d)}
 
 
-@pytest.fixture(scope="module", params=[CASE, DW, KINDS["solid_axle_panhard"]],
-                ids=["pseudo_mcpherson", "double_wishbone", "solid_axle_panhard"])
+@pytest.fixture(scope="module", params=[CASE, DW, KINDS["solid_axle_panhard"],
+                                        KINDS["fsae_pushrod"]],
+                ids=["pseudo_mcpherson", "double_wishbone", "solid_axle_panhard",
+                     "fsae_pushrod"])
 def mirror_sets(request):
     data = nominal_data(request.param)
+    if request.param == KINDS["fsae_pushrod"]:  # its axle cases in few steps too
+        travel = {"rebound_mm": -25.0, "bump_mm": 25.0, "step_mm": 12.5}
+        data["rig"].update(opposite_travel=travel, single_wheel_travel=travel,
+                           roll_vertical_force={"amplitude_deg": 1.5, "step_deg": 0.75},
+                           steering={"amplitude_deg": 180.0, "step_deg": 90.0})
     other_side = "right" if data["side"] == "left" else "left"
     mirror = np.diag([1.0, -1.0, 1.0])
     turn = np.diag([-1.0, -1.0, 1.0])  # ISO 8855 <-> ADAMS/Car: x and y reversed

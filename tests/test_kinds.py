@@ -3,6 +3,10 @@ solver against an independent solve written here (scipy, plain numpy).
 
 - multi-link: toe and camber over travel from a loop-closure solve of the upright's pose (the
   five link lengths of the kinematic model and the wheel-centre height), 1e-6 deg;
+- the HMMWV's rear double wishbone (tie rods to the body): the same loop closure on its arms'
+  four distances and the tie rod, 1e-6 deg; its kinematic roll centre against the knuckle's
+  velocity solved from the arms' pivot axes and the tie rod (the arm-line construction in
+  3D), 0.01 mm;
 - semi-trailing arm: the arm turns about its fixed pivot axis: toe and camber over travel from
   that one rotation, 1e-9 deg;
 - solid axle with a Panhard rod: the kinematic roll centre where the rod's line crosses the
@@ -68,12 +72,14 @@ MULTILINK_LINKS = [("uca_front", "uca_outer"), ("uca_rear", "uca_outer"),
                    ("toe_link_inner", "toe_link_outer")]
 
 
-def upright_pose(d: dict, z_mm: float, start: np.ndarray) -> np.ndarray:
+def upright_pose(d: dict, z_mm: float, start: np.ndarray,
+                 links: list[tuple[str, str]] = MULTILINK_LINKS) -> np.ndarray:
     """The upright's pose (rotation vector, rad; wheel-centre displacement, mm) at which the
-    five link lengths are those of the design and the wheel centre is at height ``z_mm``."""
+    five link lengths (``links``: chassis point, upright point) are those of the design and
+    the wheel centre is at height ``z_mm``."""
     c0 = point(d, "wheel_centre")
     links = [(point(d, a), point(d, b) - c0, np.linalg.norm(point(d, b) - point(d, a)))
-             for a, b in MULTILINK_LINKS]
+             for a, b in links]
 
     def residual(x):
         R = Rotation.from_rotvec(x[:3]).as_matrix()
@@ -86,12 +92,23 @@ def upright_pose(d: dict, z_mm: float, start: np.ndarray) -> np.ndarray:
     return fit.x
 
 
-def test_multilink_toe_and_camber_from_a_loop_closure():
-    d, sweep = kinematic_travel("multilink_axle.yaml")
+#: the same five distances on a double wishbone whose tie rod goes to the body (the HMMWV's
+#: rear): each arm's two (its revolute axis through both chassis points) and the tie rod
+DOUBLE_WISHBONE_LINKS = [("lca_front", "lca_outer"), ("lca_rear", "lca_outer"),
+                         ("uca_front", "uca_outer"), ("uca_rear", "uca_outer"),
+                         ("tierod_inner", "tierod_outer")]
+
+
+@pytest.mark.parametrize("name, links", [
+    ("multilink_axle.yaml", MULTILINK_LINKS),
+    ("double_wishbone_rear_axle.yaml", DOUBLE_WISHBONE_LINKS)],
+    ids=["multilink", "double_wishbone_rear"])
+def test_toe_and_camber_from_a_loop_closure(name, links):
+    d, sweep = kinematic_travel(name)
     pose = np.zeros(6)
     toe, camber = [], []
     for k in range(sweep.steps):
-        pose = upright_pose(d, wheel_centre(sweep, k)[2], pose)
+        pose = upright_pose(d, wheel_centre(sweep, k)[2], pose, links)
         spin = Rotation.from_rotvec(pose[:3]).as_matrix() @ np.array([0.0, 1.0, 0.0])
         t, c = toe_camber_deg(spin)
         toe.append(t)
@@ -100,6 +117,47 @@ def test_multilink_toe_and_camber_from_a_loop_closure():
     assert np.ptp(travel) > 100.0 and np.ptp(toe) > 0.1 and np.ptp(camber) > 1.0  # it moves
     np.testing.assert_allclose(sweep.columns["toe_deg"], toe, rtol=0, atol=1e-6)
     np.testing.assert_allclose(sweep.columns["camber_deg"], camber, rtol=0, atol=1e-6)
+
+
+def cross_matrix(r: np.ndarray) -> np.ndarray:
+    """The matrix of ``r x .``."""
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+def test_double_wishbone_rear_roll_centre_from_the_knuckles_velocity():
+    """The HMMWV's rear (ideal joints): the kinematic roll centre against the arm-line
+    construction in 3D. Its upper arm's axis is 0.8 deg off the x axis, so the planar
+    construction of tests/test_axle_roll_centre.py is not exact (its front-view arm lines put
+    the roll centre at 398.8 mm, 7.7 mm low); here the knuckle's velocity at design is solved
+    from the hardpoints: each ball joint moves as its arm turns about the pivot axis through
+    its chassis points, the tie rod keeps its length, the wheel centre rises at unit rate (8
+    linear equations: the knuckle's 6, the arms' 2 rates). The contact point's front-view
+    velocity then gives the line to the centre plane. 0.01 mm: the model's roll centre is a
+    central difference along its 1 mm steps (measured 1.2e-4 mm)."""
+    d, sweep = kinematic_travel("double_wishbone_rear_axle.yaml",
+                                {"rebound_mm": -4, "bump_mm": 4, "step_mm": 1})
+    c = point(d, "wheel_centre")
+    A, b = np.zeros((8, 8)), np.zeros(8)  # unknowns: w (rad/mm), v_c (mm/mm), arm rates
+    for row, (front, rear, ball) in enumerate([("lca_front", "lca_rear", "lca_outer"),
+                                               ("uca_front", "uca_rear", "uca_outer")]):
+        axis = point(d, front) - point(d, rear)
+        axis /= np.linalg.norm(axis)
+        rows = slice(3 * row, 3 * row + 3)
+        A[rows, :3] = -cross_matrix(point(d, ball) - c)  # w x (B - c)
+        A[rows, 3:6] = np.eye(3)
+        A[rows, 6 + row] = -np.cross(axis, point(d, ball) - point(d, rear))
+    tie_rod = point(d, "tierod_outer") - point(d, "tierod_inner")
+    A[6, :3] = -tie_rod @ cross_matrix(point(d, "tierod_outer") - c)
+    A[6, 3:6] = tie_rod
+    A[7, 5], b[7] = 1.0, 1.0
+    x = np.linalg.solve(A, b)
+    arm = np.array([0.0, 0.0, -d["wheel"]["loaded_radius_mm"]])  # wheel centre -> contact
+    v = x[3:6] + np.cross(x[:3], arm)
+    hand = (c + arm)[1] * v[1] / v[2]  # the line normal to (v_y, v_z) meets y = 0
+    k = np.flatnonzero((sweep.columns["pad_z_mm"] == 0.0)
+                       & (sweep.columns["branch"] == "stroke"))[0]
+    assert sweep.columns["roll_centre_height_mm"][k] == pytest.approx(hand, abs=0.01)
+    assert sweep.columns["roll_centre_lateral_mm"][k] == pytest.approx(0.0, abs=1e-6)
 
 
 # ------------------------------------------------------------------------- semi-trailing arm
@@ -227,7 +285,10 @@ def test_a_shared_part_carries_both_wheels_and_items_on_both_sides():
 
 
 # ------------------------------------------------------------------------- compliance
-BUSHED = ["multilink_axle.yaml", "semi_trailing_arm_axle.yaml", "solid_axle_panhard.yaml"]
+#: the bushed kinds, and the push-rod axle (every joint ideal: its compliance is its springs'
+#: through the rockers, the heave spring coupling the wheels)
+BUSHED = ["multilink_axle.yaml", "semi_trailing_arm_axle.yaml", "solid_axle_panhard.yaml",
+          "double_wishbone_rear_axle.yaml", "fsae_pushrod_axle.yaml"]
 
 
 def force_based_roll_centre_mm(C: np.ndarray, d: dict) -> float:
@@ -271,28 +332,35 @@ def test_compliance_is_reciprocal_and_the_force_based_roll_centre_kinematic(name
     - Maxwell-Betti: the 12x12 wheel-centre compliance (rotations in rad against torques in
       N*mm) is symmetric to 1e-3 of the diagonal's scale (central differences of a nonlinear
       model) on the rigid-bushing variant (every bushing its ideal joint; measured 8e-6
-      multi-link, 2e-5 semi-trailing arm, 4e-6 Panhard) and on the bushed model with the
-      bushings unloaded (a 1 N design wheel load; 5e-7, 5e-6, 2.5e-4). Under the design load
-      the bushed model's is not, in proportion to the load: a bushing's torque, each
-      rotational law at the Tait-Bryan angles about the first part's axes, is not the
-      gradient of an energy (README, bushings), so a bushing carrying a torque T0 adds a term
-      of order T0 / K (measured at design: 3.9e-3 multi-link, 1.9e-2 semi-trailing arm, whose
-      pivot bushing carries 2e6 N*mm against 1.5e8 N*mm/rad; bounded here by 5e-2);
+      multi-link, 2e-5 semi-trailing arm, 4e-6 Panhard, 3e-6 HMMWV rear) and on the bushed
+      model with the bushings unloaded (a 1 N design wheel load, without the axle masses that
+      fit the real one; 5e-7, 5e-6, 2.5e-4, 7.5e-7). Under the design load the bushed
+      model's is not, in proportion to the load: a bushing's torque, each rotational law at
+      the Tait-Bryan angles about the first part's axes, is not the gradient of an energy
+      (README, bushings), so a bushing carrying a torque T0 adds a term of order T0 / K
+      (measured at design: 3.9e-3 multi-link, 1.9e-2 semi-trailing arm, whose pivot bushing
+      carries 2e6 N*mm against 1.5e8 N*mm/rad, 3.8e-3 HMMWV rear; bounded here by 5e-2);
     - on the rigid-bushing variant the force-based roll centre (computed here from its
       matrix, ADAMS/Car's construction) is the kinematic one of the same model (from its
-      parallel travel) within 1 mm (measured 0.004 mm; the compliant models' own differ by
-      49 mm multi-link, 3.4 mm semi-trailing arm, 0.7 mm Panhard: the bushings). (Stiffening
-      the bushings' held directions 1000 times instead converges to it too, 109.68 against
-      109.63 mm on the multi-link, but such laws stall Newton at its absolute tolerance on
-      the other two.)"""
+      parallel travel) within 1 mm (measured 0.004 mm, HMMWV rear 0.0007 mm; the compliant
+      models' own differ by 49 mm multi-link, 3.4 mm semi-trailing arm, 0.7 mm Panhard,
+      12 mm HMMWV rear: the bushings). (Stiffening the bushings' held directions 1000 times
+      instead converges to it too, 109.68 against 109.63 mm on the multi-link, but such laws
+      stall Newton at its absolute tolerance on the semi-trailing arm and the Panhard axle.)
+
+    The push-rod axle has no bushing (every joint ideal, as its source): its compliance is
+    that of its springs through the rockers, symmetric under the design load too (2.3e-5;
+    the heave spring couples the wheels: C[zL, zR] = C[zR, zL] = -8.85e-3 mm/N), and its
+    force-based roll centre is the kinematic one (4.663 mm both, 0.0005 mm apart)."""
     from elastokin.rig.load_cases import wheel_compliance
 
     d = config(name)
     d["rig"] = rig(parallel_travel={"rebound_mm": -4, "bump_mm": 4, "step_mm": 2})
     s = suspension(d, name)
-    assert reciprocity_error(wheel_compliance(build_model(s))) < 5e-2
+    assert reciprocity_error(wheel_compliance(build_model(s))) < (5e-2 if s.bushings else 1e-3)
     unloaded = copy.deepcopy(d)
     unloaded["design"]["wheel_load_N"] = 1.0
+    unloaded["axle"].get("vehicle", {}).pop("axle_mass_kg", None)  # they fit the design load
     assert reciprocity_error(wheel_compliance(build_model(suspension(unloaded, name)))) < 1e-3
     rigid = build_model(kinematic(s))
     C = wheel_compliance(rigid)

@@ -357,6 +357,33 @@ def test_kc_writes_the_loads(tmp_path):
     html = (out / "report.html").read_text()
     assert '<section id="loads">' in html and 'class="worst"' in html
     assert 'id="chart-largest_loads"' in html
+    view_arrows_are_loads_csv(html, header, body, model)
+
+
+def view_arrows_are_loads_csv(html: str, header: list, body: list, model: dict) -> None:
+    """The report's 3D view: every pickup's arrow at every frame of every load case is the
+    load loads.csv lists for that step (the force on the element's first part: the body's
+    when the body is its first part, the opposite otherwise); the worst case the view offers
+    for a pickup is summary.json's."""
+    import re
+
+    raw = re.search(r'<script type="application/json" id="ekv-data">(.*?)</script>', html,
+                    re.S).group(1)
+    view = json.loads(raw.replace("<\\/", "</"))["models"]["initial"]
+    rows = {(r[1], int(r[2])): r for r in body if r[0] == "initial"}
+    checked = 0
+    for case, data in view["data"].items():
+        for name, flat in (data.get("loads") or {}).get("pickup", {}).items():
+            sign = 1.0 if model["loads"][name]["parts"][0] == "body" else -1.0
+            cols = [header.index(f"{name}_f{a}_body_N") for a in "xyz"]
+            for frame, step in enumerate(data["steps"]):
+                csv = np.array([float(rows[case, step + 1][c]) for c in cols])
+                np.testing.assert_allclose(flat[3 * frame:3 * frame + 3], sign * csv, atol=0.051)
+                checked += 1
+    assert checked > 50
+    for w in view["worst"]:
+        worst = model["pickups"][w["pickup"]]["worst"]
+        assert (w["case"], w["step"]) == (worst["load_case"], worst["step"])
 
 
 def test_the_loads_benchmark_quick(tmp_path):

@@ -255,11 +255,30 @@ def test_contradicting_axle_data_are_warned_with_both_files(tmp_path, monkeypatc
     assert v.front.rig.roll_vertical_force.amplitude_deg == 1.0  # the table's roll
 
 
+def test_the_shipped_car_is_one_car(monkeypatch):
+    """configs/vehicle_hmmwv.yaml is the HMMWV, front and rear: both axle configs' own vehicle
+    data are the vehicle file's and each design wheel load carries the vehicle's mass on its
+    axle (0.04 % front, 0.03 % rear, with g = 9.81 in the configs): loading it warns of
+    nothing. (The old pairing with the multi-link rear warned of the rear axle mass.)"""
+    monkeypatch.chdir(ROOT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", VehicleDataWarning)
+        v = load_vehicle("configs/vehicle_hmmwv.yaml")
+    assert v.warnings == ()
+    assert {role: v.axle(role).source for role in ("front", "rear")} == {
+        "front": "configs/double_wishbone_axle.yaml",
+        "rear": "configs/double_wishbone_rear_axle.yaml"}
+    for role in ("front", "rear"):
+        assert 2 * v.axle(role).design.wheel_load_N == pytest.approx(v.data.weight_N(role),
+                                                                     rel=5e-4)
+        assert v.axle(role).axle.vehicle.position == role
+
+
 @pytest.mark.slow
 def test_the_readme_whole_car_section_runs_and_shows_what_kc_prints(tmp_path, monkeypatch):
-    """The README's Python block runs the shipped car; the console excerpt above it is the
-    table `elastokin kc --vehicle` prints for that run (rebuilt from its summary.json, with
-    the command's default results folder)."""
+    """The README's Python block runs the shipped car, without a warning; the console excerpt
+    above it is the table `elastokin kc --vehicle` prints for that run (rebuilt from its
+    summary.json, with the command's default results folder), and shows no warning."""
     import contextlib
     import io
     import re
@@ -274,21 +293,19 @@ def test_the_readme_whole_car_section_runs_and_shows_what_kc_prints(tmp_path, mo
                   if lang in ("console", "python"))
     (tmp_path / "configs").symlink_to(ROOT / "configs")
     monkeypatch.chdir(tmp_path)
-    with contextlib.redirect_stdout(io.StringIO()), pytest.warns(VehicleDataWarning):
+    with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
+        warnings.simplefilter("error", VehicleDataWarning)
         exec(compile(blocks["python"], "README, The whole car", "exec"), {})
     summary = json.loads((tmp_path / "results" / "car" / "summary.json").read_text())
     printed = [ln.rstrip() for ln in vehicle_table(
         summary, Path("results/vehicle_hmmwv")).splitlines()]
     command, _, shown = blocks["console"].partition("\n")
     assert command == "$ elastokin kc --vehicle configs/vehicle_hmmwv.yaml"
-    warned = "elastokin: warning: "
-    expected = [ln.rstrip() for ln in shown.splitlines() if ln.strip() and ln != "..."
-                and not ln.startswith(warned)]
+    expected = [ln.rstrip() for ln in shown.splitlines() if ln.strip() and ln != "..."]
     assert expected and all(line in printed for line in expected), \
         [line for line in expected if line not in printed]
-    # the one warning: the front config's own rear axle mass (the HMMWV's)
-    assert [ln[len(warned):] for ln in shown.splitlines() if ln.startswith(warned)] == \
-        summary["warnings"] and "axle_mass_kg.rear' is 1008.7" in summary["warnings"][0]
+    # one car, front and rear: nothing to warn of, in the run or in the README
+    assert summary["warnings"] == [] and "warning" not in shown
 
 
 @pytest.mark.parametrize("args", [[], ["--config", "a.yaml", "--vehicle", "b.yaml"]])

@@ -93,6 +93,13 @@ def test_pose_series_by_hand():
     np.testing.assert_allclose(R[1] @ [2.0, 0.0, 0.0] + t[1], [1.0, 1.0, 5.0])
     R, t = series.transforms("body", [0, 1])  # the ground does not move
     np.testing.assert_allclose(R[1], np.eye(3)) and np.testing.assert_allclose(t, 0.0)
+    nodes = np.arange(6.0).reshape(2, 3)  # a beam part's node line: stacked per step
+    steps[1].node_mm["beam"], steps[1].node_rotation["beam"] = nodes, np.stack([quarter] * 2)
+    steps[0].node_mm["beam"], steps[0].node_rotation["beam"] = nodes * 0, np.stack([np.eye(3)] * 2)
+    series = PoseSeries.stack(steps)
+    assert series.node_mm["beam"].shape == (2, 2, 3)
+    np.testing.assert_allclose(series.at(1).node_mm["beam"], nodes)
+    np.testing.assert_allclose(series.at(1).node_rotation["beam"][1], quarter)
 
 
 def test_frame_steps_keep_the_branch_ends():
@@ -319,6 +326,8 @@ def test_benchmark_quick_mode(tmp_path):
         assert load["lazy"] and load["load_s"] > 0 and load["view_s"] > 0
         assert load["renderer_cpu_s"] > 0 and load["page_errors"] == []
     assert r["poses"]["with_poses_s"] > 0 and r["poses"]["ratio"] > 0
+    assert r["beam_nodes"]["identical_columns"] and r["beam_nodes"]["nodes_recorded"] == 9
+    assert report["full_bundle"]["plotly_js_bytes"] > report["plotly_js_bytes"]
     assert list(r["view"]) == ["double_wishbone_axle"]
 
 
@@ -338,6 +347,28 @@ def test_the_figure_is_valid_plotly():
     go.Figure(figure)  # raises on an unknown property
     assert data["order"] == ["initial", "identified"] and len(data["ident"]) == 3
     assert len(data["recipes"]) == len(figure["data"])
+
+
+def test_the_shipped_plotly_bundle():
+    """The plotly.js the view embeds is the vendored gl3d partial bundle as
+    scripts/vendor_plotly.py wrote it (size and SHA-256 of its manifest, the version in its
+    header), of the same major version as the plotly Python package the figures are validated
+    with, and safe inside a script element."""
+    import hashlib
+
+    from plotly.offline import get_plotlyjs
+
+    from elastokin.report.view3d import plotly_js
+
+    vendor = ROOT / "elastokin" / "report" / "vendor"
+    manifest = json.loads((vendor / "plotly-gl3d.json").read_text())
+    raw = (vendor / manifest["file"]).read_bytes()
+    assert len(raw) == manifest["bytes"] and hashlib.sha256(raw).hexdigest() == manifest["sha256"]
+    text = plotly_js()
+    assert f"plotly.js (gl3d - minified) v{manifest['version']}" in text[:200]
+    python_js = re.search(r"plotly\.js v(\d+)\.", get_plotlyjs()[:300]).group(1)
+    assert manifest["version"].split(".")[0] == python_js
+    assert "</script" not in text.lower() and (vendor / "LICENSE-plotly.js.txt").is_file()
 
 
 def case_overlay():

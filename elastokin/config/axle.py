@@ -39,6 +39,25 @@ def other_side(side: str) -> str:
     return "right" if side == "left" else "left"
 
 
+def other_copy(name: str, side: str, parts, shared) -> str | None:
+    """The corner part whose other-side copy ``name`` is, by the name an axle gives it
+    (``rocker_right`` -> ``rocker`` on a left corner's axle: ``side`` the corner's, ``parts``
+    its part names, ``shared`` those declared once); None when ``name`` is no such copy (a
+    shared part has none)."""
+    base = name.removesuffix("_" + other_side(side))
+    if base == name or base not in parts or base in shared:
+        return None
+    return base
+
+
+def joins_sides(item_parts, side: str, parts, shared) -> bool:
+    """True for an item (connection, spring, damper, stop) between ``item_parts`` naming the
+    other side's copy of a corner part (:func:`other_copy`; a heave spring between
+    ``rocker`` and ``rocker_right``): an item across the car, kept once and resolved with both
+    corners' hardpoints."""
+    return any(other_copy(p, side, parts, shared) is not None for p in item_parts)
+
+
 def reflected_law(law: DirectionLaw) -> DirectionLaw:
     """The point reflection F'(u) = -F(-u) of a law (the same law when it is odd)."""
     return DirectionLaw(tuple(-u for u in reversed(law.deflection)),
@@ -95,6 +114,8 @@ def corner_points(s, part: str) -> list[tuple[str, np.ndarray]]:
         out += [(f"springs.{sp.name}", p) for q, p in zip(sp.parts, sp.seats_mm) if q == part]
     for st in s.stops:
         out += [(f"stops.{st.name}", p) for q, p in zip(st.parts, st.points_mm) if q == part]
+    for dm in s.dampers:
+        out += [(f"dampers.{dm.name}", p) for q, p in zip(dm.parts, dm.points_mm) if q == part]
     if s.wheel.part == part:
         out.append(("wheel.centre", s.wheel.centre_mm))
     for b in s.beams:
@@ -186,8 +207,8 @@ def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
     (``front_arm`` and ``front_arm_right``; a hardpoint ``X_right`` beside ``X``): a part named
     as a shared part's other-side copy declares a shared part on both sides; any other such
     name would be taken twice, the user's item silently replaced by the mirror. Parts,
-    connections and springs share one namespace (:meth:`Resolver.check_names`); hardpoints
-    and stops have their own."""
+    connections, springs and dampers share one namespace (:meth:`Resolver.check_names`);
+    hardpoints and stops have their own."""
     shared = set(spec.shared)
     side = suffix.removeprefix("_")
     for name in sorted(spec.shared):
@@ -200,11 +221,12 @@ def check_names(s, spec: AxleSpec, suffix: str, fail) -> None:
     for name in s.parts:
         if name not in shared and name != s.ground:
             mirrored[name + suffix] = f"part '{name}'"
-    for section in ("connections", "springs"):
+    for section in ("connections", "springs", "dampers"):
         for name, item in (s.raw.get(section) or {}).items():
-            if not kept_once(name, tuple(item["parts"]), spec, s.ground):
+            if mirrored_item(name, tuple(item["parts"]), spec, s):
                 mirrored[name + suffix] = f"{section[:-1]} '{name}'"
     sections = {"parts": mirrored, "connections": mirrored, "springs": mirrored,
+                "dampers": mirrored,
                 "stops": {n + suffix: f"stop '{n}'" for n in (s.raw.get("stops") or {})},
                 "hardpoints": {n + suffix: f"hardpoint '{n}'" for n in s.hardpoints}}
     for section, generated in sections.items():
@@ -262,14 +284,22 @@ def kept_once(name: str, parts: tuple[str, str], spec: AxleSpec, ground: str) ->
     return name not in spec.both_sides and declared_once(parts, spec.shared, ground)
 
 
+def mirrored_item(name: str, parts: tuple[str, str], spec: AxleSpec, s) -> bool:
+    """True for an item of the config ``s`` (validated or resolved; ``spec`` its axle) that the
+    other side has a mirrored copy of: neither kept once (:func:`kept_once`) nor joining the
+    two sides."""
+    return not kept_once(name, parts, spec, s.ground) and \
+        not joins_sides(parts, s.side, s.parts, spec.shared)
+
+
 def item_points(s, name: str) -> list[np.ndarray]:
-    """The points (config frame) of the resolved corner's connection, spring or stop
+    """The points (config frame) of the resolved corner's connection, spring, damper or stop
     ``name``."""
     for j in (*s.joints, *s.bushings):
         if j.name == name:
             return [j.position_mm]
     for item, attr in ((s.links, "points_mm"), (s.springs, "seats_mm"),
-                       (s.stops, "points_mm")):
+                       (s.stops, "points_mm"), (s.dampers, "points_mm")):
         for it in item:
             if it.name == name:
                 return list(getattr(it, attr))
@@ -280,13 +310,14 @@ def check_both_sides(s, spec: AxleSpec, fail) -> None:
     """Every name of ``axle.both_sides`` is a connection, spring or stop among shared parts
     and the ground (a corner's are on both sides already), not the steering rack, with every
     point on the config's side of the centre plane (its mirror is the other side's)."""
-    sections = {sec: s.raw.get(sec) or {} for sec in ("connections", "springs", "stops")}
+    sections = {sec: s.raw.get(sec) or {}
+                for sec in ("connections", "springs", "dampers", "stops")}
     rack = spec.steering.rack if spec.steering is not None else None
     for i, name in enumerate(spec.both_sides):
         key = f"axle.both_sides[{i}]"
         found = [sec for sec, items in sections.items() if name in items]
         if not found:
-            raise fail(key, f"no connection, spring or stop '{name}'")
+            raise fail(key, f"no connection, spring, damper or stop '{name}'")
         if name in spec.both_sides[:i]:
             raise fail(key, f"'{name}' is listed twice")
         parts = tuple(sections[found[0]][name]["parts"])

@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from elastokin.config.axle import (
+    CENTRE_PLANE_TOLERANCE_MM,
     MIRROR,
     check_axle_mass,
     check_both_sides,
@@ -25,6 +26,7 @@ from elastokin.config.axle import (
     kept_once,
     mirrored_bushing,
     mirrored_hardpoints,
+    other_copy,
     other_side,
     steering_ratio,
 )
@@ -60,7 +62,8 @@ class MirroredResolver(Resolver):
         return name + self.suffix
 
     def keep(self, name: str, parts: tuple[str, str]) -> bool:
-        return not kept_once(name, parts, self.spec.axle, self.spec.ground)
+        return not kept_once(name, parts, self.spec.axle, self.spec.ground) and \
+            not self.across(parts)
 
     def part(self, name: str, key: str) -> str:
         base = super().part(name, key)
@@ -83,6 +86,35 @@ class MirroredResolver(Resolver):
         laws = None if override is None else self.bushing_laws(
             override.stiffness, f"axle.other_side.connections.{corner_name}.stiffness")
         return mirrored_bushing(b, laws)
+
+
+class AcrossResolver(Resolver):
+    """The items joining the two sides of an axle (a heave spring between ``rocker`` and the
+    other side's ``rocker_right``): kept once, resolved with both corners' hardpoints (the
+    other side's by the names the axle gives them, ``heave_rocker_right``), each joining a
+    part of the config's corner to the other side's copy of one."""
+
+    def __init__(self, corner_resolver: Resolver, hardpoints: dict[str, np.ndarray]):
+        super().__init__(corner_resolver.spec, corner_resolver.source)
+        self.hardpoints = hardpoints
+
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        return self.across(parts)
+
+    def part(self, name: str, key: str) -> str:
+        a = self.spec.axle
+        if other_copy(name, self.spec.side, self.spec.parts, a.shared) is not None:
+            return name
+        return super().part(name, key)
+
+    def parts(self, names: tuple[str, str], key: str) -> tuple[str, str]:
+        out = super().parts(names, key)
+        corner = [p for p in out if p in self.spec.parts and p not in self.spec.axle.shared]
+        if not corner:
+            raise self.fail(f"{key}.parts", f"joins only the other side's parts ({out[0]}, "
+                            f"{out[1]}): give the item on the config's side ({self.spec.side}); "
+                            "the axle mirrors it")
+        return out
 
 
 def resolve_suspension(resolver: Resolver, sha256: str, raw, config_sha256: str = "",
@@ -119,12 +151,19 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
     parts.update({n + suffix: p for n, p in corner.parts.items() if n not in spec.shared})
     hardpoints = dict(corner.hardpoints)
     hardpoints.update({n + suffix: v for n, v in mirrored.hardpoints.items()})
+    across = AcrossResolver(resolver, hardpoints)
+    a_joints, a_links, a_bushings = across.connections()
+    a_springs, a_stops, a_dampers = across.springs(), across.stops(), across.dampers()
+    a_items = [*(("connections", c) for c in (*a_joints, *a_links, *a_bushings)),
+               *(("springs", c) for c in a_springs), *(("stops", c) for c in a_stops),
+               *(("dampers", c) for c in a_dampers)]
+    check_across_points(corner, a_items, spec.shared, resolver.fail)
     d = resolver.spec.design
     springs = {sp.name for sp in corner.springs + other.springs}
     balance = tuple(n for n in (d.balance_spring, f"{d.balance_spring}{suffix}")
                     if d.balance_spring and n in springs)
     axle = Axle((corner.side, mirrored.other), suffix, tuple(spec.shared), steering, arb,
-                spec.vehicle, balance)
+                spec.vehicle, balance, tuple(it.name for _, it in a_items))
     beams = []
     for b in corner.beams:
         if b.part in spec.shared:
@@ -132,10 +171,31 @@ def expand_axle(resolver: Resolver, corner: Suspension) -> Suspension:
                                      resolver.fail))
         else:
             beams += [b, mirrored_beam(b, mirrored.hardpoints, suffix)]
-    return replace(corner, parts=parts, hardpoints=hardpoints, joints=joints, beams=tuple(beams),
-                   links=corner.links + other.links, bushings=corner.bushings + other.bushings,
-                   springs=corner.springs + other.springs, stops=corner.stops + other.stops,
+    return replace(corner, parts=parts, hardpoints=hardpoints, beams=tuple(beams),
+                   joints=joints + a_joints, links=corner.links + other.links + a_links,
+                   bushings=corner.bushings + other.bushings + a_bushings,
+                   springs=corner.springs + other.springs + tuple(a_springs),
+                   stops=corner.stops + other.stops + tuple(a_stops),
+                   dampers=corner.dampers + other.dampers + tuple(a_dampers),
                    wheels={corner.side: corner.wheel, mirrored.other: other.wheel}, axle=axle)
+
+
+def check_across_points(corner: Suspension, items, shared, fail) -> None:
+    """Every point of an item joining the two sides (``items``: (config section, resolved
+    item)) lies on the side of the part that holds it: a corner part's on the config's side
+    of the centre plane, the other side's copy's on the other side (a shared part's or the
+    ground's anywhere)."""
+    for section, it in items:
+        pts = getattr(it, "points_mm", None) or getattr(it, "seats_mm", None) or \
+            (it.position_mm, it.position_mm)
+        for part, p in zip(it.parts, pts):
+            side = -1.0 if other_copy(part, corner.side, corner.parts, shared) else \
+                1.0 if part in corner.parts and part not in shared else 0.0
+            if side and float(p @ corner.outboard) * side <= CENTRE_PLANE_TOLERANCE_MM:
+                where = corner.side if side > 0 else other_side(corner.side)
+                raise fail(f"{section}.{it.name}", f"its point on '{part}' at y = "
+                           f"{p[1]:.6g} mm is not on the {where} side of the vehicle centre "
+                           "plane, where that part is")
 
 
 def resolve_steering(resolver: Resolver, corner: Suspension):

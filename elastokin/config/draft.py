@@ -1,13 +1,14 @@
 """A config as far as it resolves, with every error listed: what ``elastokin view`` shows of a
 config being written. A valid config is its whole :class:`~elastokin.config.suspension
-.Suspension` (both corners of an axle); a config with errors keeps every item that resolves
-on its own (a hardpoint, a part, a connection, a spring, a stop, the wheel) and lists each
-error in the words of :func:`elastokin.config.loading.load_suspension` (file, key, what is
-expected). Nothing is guessed: an item with an error is left out, never replaced.
+.Suspension` (both corners of an axle); a config with errors keeps every item of its corner
+that resolves on its own (a hardpoint, a part, a connection, a spring, a damper, a stop, the
+wheel) and lists each error in the words of :func:`elastokin.config.loading.load_suspension`
+(file, key, what is expected). Nothing is guessed: an item with an error is left out, never
+replaced.
 
 How: the sections are validated one by one (``hardpoints``, ``parts``, ``connections``,
-``springs`` and ``stops`` item by item) against the schema's own fields; the valid ones are
-resolved strictly when the geometry has no error, else item by item by a
+``springs``, ``dampers`` and ``stops`` item by item) against the schema's own fields; the
+valid ones are resolved strictly when the geometry has no error, else item by item by a
 :class:`TolerantResolver` (the resolver's :meth:`~elastokin.config.resolver.Resolver.attempt`
 records an item's error instead of raising it). Units mm, deg; the config frame.
 """
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError, create_model
 
+from elastokin.config.axle import joins_sides
 from elastokin.config.axle_resolver import resolve_suspension
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import format_validation_error, load_suspension, read_yaml
@@ -31,6 +33,7 @@ from elastokin.config.suspension import (
     Axle,
     Beam,
     Bushing,
+    Damper,
     Joint,
     Link,
     Spring,
@@ -41,7 +44,7 @@ from elastokin.config.suspension import (
 from elastokin.errors import ConfigError
 
 #: the sections validated item by item (a mapping of named items each)
-ITEM_SECTIONS = ("hardpoints", "parts", "connections", "springs", "stops")
+ITEM_SECTIONS = ("hardpoints", "parts", "connections", "springs", "dampers", "stops")
 #: the sections the geometry is made of: with an error in one, the config resolves item by item
 GEOMETRY = (*ITEM_SECTIONS, "frame", "side", "ground", "wheel", "design", "axle")
 #: stand-ins of required sections with an error, for the items that do not read them
@@ -74,13 +77,14 @@ class SuspensionDraft:
     errors: tuple[str, ...] = ()
     suspension: Suspension | None = None
     beams: tuple[Beam, ...] = ()  # the flexible parts (none resolved item by item)
+    dampers: tuple[Damper, ...] = ()
 
 
 def draft_of(s: Suspension, errors: tuple[str, ...] = ()) -> SuspensionDraft:
     """The draft of a resolved suspension (with ``errors`` of sections beside its geometry)."""
     return SuspensionDraft(s.name, s.source, s.frame, s.side, s.ground, s.parts, s.hardpoints,
                            s.joints, s.links, s.bushings, s.springs, s.stops, s.wheels,
-                           s.axle, tuple(errors), s, s.beams)
+                           s.axle, tuple(errors), s, s.beams, s.dampers)
 
 
 def draft_suspension(path: str | Path) -> SuspensionDraft:
@@ -111,7 +115,9 @@ def draft_from_dict(data: Mapping, source: str, error: str | None = None) -> Sus
             return draft_of(s, _with(errors, error))
         except ConfigError as exc:
             error = error or str(exc)
-    tolerant = TolerantResolver(spec.model_copy(update={"axle": None}), source)
+    # the corner alone: an item joining the two sides of an axle is left out with the axle
+    tolerant = TolerantResolver(spec.model_copy(update={"axle": None}), source,
+                                across=spec.axle if "axle" in valid else None)
     corner = tolerant.corner()
     for check in (tolerant.check_names, tolerant.check_label):
         tolerant.attempt(check)
@@ -120,7 +126,7 @@ def draft_from_dict(data: Mapping, source: str, error: str | None = None) -> Sus
         spec.name or Path(source).stem, source, spec.frame, spec.side, spec.ground,
         dict(spec.parts) if "parts" in valid else {}, tolerant.hardpoints, corner.joints,
         corner.links, corner.bushings, tuple(corner.springs), tuple(corner.stops), wheels,
-        errors=_with(errors + tolerant.errors, error))
+        errors=_with(errors + tolerant.errors, error), dampers=tuple(corner.dampers))
 
 
 def _with(errors: list[str], error: str | None) -> tuple[str, ...]:
@@ -189,9 +195,14 @@ class TolerantResolver(Resolver):
     """A resolver that records the error of an item (in ``errors``) and goes on without it:
     the items of a config that resolve on their own (:func:`draft_from_dict`)."""
 
-    def __init__(self, spec: SuspensionFile, source: str):
+    def __init__(self, spec: SuspensionFile, source: str, across=None):
         super().__init__(spec, source)
         self.errors: list[str] = []
+        self.axle_spec = across  # the config's axle section: its items across are left out
+
+    def keep(self, name: str, parts: tuple[str, str]) -> bool:
+        a, s = self.axle_spec, self.spec
+        return a is None or not joins_sides(parts, s.side, s.parts, a.shared or ())
 
     def attempt(self, make):
         try:

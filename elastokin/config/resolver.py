@@ -10,12 +10,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from elastokin.config.axle import joins_sides, other_copy
 from elastokin.config.beams import resolve_beams
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
 from elastokin.config.schema import BushingSpec, LinkSpec, RackSpec, SuspensionFile
 from elastokin.config.schema_base import AxisBetween, AxisSpec, PointSpec
 from elastokin.config.suspension import (
     Bushing,
+    Damper,
     Joint,
     Link,
     Spring,
@@ -40,6 +42,7 @@ class CornerItems:
     springs: tuple[Spring, ...]
     stops: tuple[Stop, ...]
     wheel: Wheel
+    dampers: tuple[Damper, ...] = ()
 
 
 class Resolver:
@@ -84,6 +87,13 @@ class Resolver:
 
     def part(self, name: str, key: str) -> str:
         if name != self.spec.ground and name not in self.spec.parts:
+            shared = self.spec.axle.shared if self.spec.axle is not None else ()
+            base = other_copy(name, self.spec.side, self.spec.parts, shared)
+            if base is not None:
+                raise self.fail(key, f"part '{name}' is the other side's copy of '{base}': "
+                                + ("an item joining the two sides needs an 'axle:' section"
+                                   if self.spec.axle is None else "only a connection, spring, "
+                                   "damper or stop joining the two sides may name it"))
             raise self.fail(
                 key, f"part '{name}' is not defined (parts: {', '.join(self.spec.parts)}; "
                 f"ground: {self.spec.ground})"
@@ -112,10 +122,10 @@ class Resolver:
         return np.column_stack([x, np.cross(z, x), z])
 
     def check_names(self) -> None:
-        """The names of the ground, parts, connections and springs are distinct."""
+        """The names of the ground, parts, connections, springs and dampers are distinct."""
         s = self.spec
         seen = {s.ground: "ground"}
-        for section in ("parts", "connections", "springs"):
+        for section in ("parts", "connections", "springs", "dampers"):
             for name in getattr(s, section):
                 key = f"{section}.{name}"
                 if seen.get(name) == "ground" and section == "parts":
@@ -123,8 +133,8 @@ class Resolver:
                                     "(key 'ground')")
                 if name in seen:
                     raise self.fail(key, f"the name '{name}' is taken by key '{seen[name]}'; "
-                                    "parts, the ground, connections and springs need distinct "
-                                    "names")
+                                    "parts, the ground, connections, springs and dampers need "
+                                    "distinct names")
                 seen[name] = key
 
     def spin_axis(self) -> np.ndarray:
@@ -147,9 +157,16 @@ class Resolver:
         return name
 
     def keep(self, name: str, parts: tuple[str, str]) -> bool:
-        """Whether the connection, spring or stop ``name`` between ``parts`` belongs to this
-        corner."""
-        return True
+        """Whether the connection, spring, damper or stop ``name`` between ``parts`` belongs
+        to this corner: not an item joining the two sides of an axle
+        (:func:`elastokin.config.axle.joins_sides`, resolved with both corners)."""
+        return not self.across(parts)
+
+    def across(self, parts: tuple[str, str]) -> bool:
+        """True for an item joining the two sides of an axle (it names the other side's copy
+        of a corner part: :func:`elastokin.config.axle.joins_sides`)."""
+        a = self.spec.axle
+        return a is not None and joins_sides(parts, self.spec.side, self.spec.parts, a.shared)
 
     def attempt(self, make):
         """``make()``: an item resolved, its error raised (a tolerant resolver,
@@ -157,14 +174,18 @@ class Resolver:
         return make()
 
     def corner(self) -> CornerItems:
-        """The corner's joints, links, bushings, springs, stops and wheel."""
+        """The corner's joints, links, bushings, springs, stops, dampers and wheel."""
+        joints, links, bushings = self.connections()
+        return CornerItems(joints, links, bushings, tuple(self.springs()), tuple(self.stops()),
+                           self.attempt(self.wheel), tuple(self.dampers()))
+
+    def connections(self) -> tuple[tuple[Joint, ...], tuple[Link, ...], tuple[Bushing, ...]]:
+        """The joints, links and bushings of :meth:`keep`'s connections."""
         items = [self.attempt(lambda n=name, c=c: self.connection(n, c))
                  for name, c in self.spec.connections.items() if self.keep(name, c.parts)]
-        return CornerItems(tuple(i for i in items if isinstance(i, Joint)),
-                           tuple(i for i in items if isinstance(i, Link)),
-                           tuple(i for i in items if isinstance(i, Bushing)),
-                           tuple(self.springs()), tuple(self.stops()),
-                           self.attempt(self.wheel))
+        return (tuple(i for i in items if isinstance(i, Joint)),
+                tuple(i for i in items if isinstance(i, Link)),
+                tuple(i for i in items if isinstance(i, Bushing)))
 
     def connection(self, name: str, c) -> Joint | Link | Bushing:
         """One connection of the config (``connections.<name>``) resolved."""
@@ -228,7 +249,7 @@ class Resolver:
             springs=c.springs, design=s.design, kinematic=s.kinematic, solver=s.solver,
             rig=s.rig, reference=s.reference, raw=raw, measurements=s.measurements,
             motion=s.motion, kc_test=s.kc_test, label=s.label, config_sha256=config_sha256,
-            rig_sha256=rig_sha256, stops=c.stops, beams=beams,
+            rig_sha256=rig_sha256, stops=c.stops, beams=beams, dampers=c.dampers,
         )
         return res
 
@@ -243,6 +264,17 @@ class Resolver:
         seats = self.point_pair(sp.seats, key + ".seats", "the two spring seats coincide")
         return Spring(self.name(name), parts, seats, sp.rate_N_per_mm, sp.preload_N,
                       sp.free_length_mm)
+
+    def dampers(self) -> list[Damper]:
+        dampers = [self.attempt(lambda n=name, dm=dm: self.damper(n, dm))
+                   for name, dm in self.spec.dampers.items() if self.keep(name, dm.parts)]
+        return [dm for dm in dampers if dm is not None]
+
+    def damper(self, name: str, dm) -> Damper:
+        key = f"dampers.{name}"
+        parts = self.parts(dm.parts, key)
+        pts = self.point_pair(dm.points, key + ".points", "the two points of a damper coincide")
+        return Damper(self.name(name), parts, pts, dm.rate_N_s_per_mm)
 
     def stops(self) -> list[Stop]:
         stops = [self.attempt(lambda n=name, st=st: self.stop(n, st))

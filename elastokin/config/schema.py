@@ -212,6 +212,18 @@ class SpringSpec(StrictModel):
         return self
 
 
+class DamperSpec(StrictModel):
+    """A damper between two points of two parts (along the point-to-point line). The rig is
+    quasi-static: a damper carries no force there; its length and its velocity ratio (length
+    change per wheel travel) are reported, and it is drawn and exported. ``rate_N_s_per_mm``
+    (optional, linear) is the damping ADAMS/Car's damper property file is written with."""
+
+    parts: tuple[str, str]
+    points: tuple[PointSpec, PointSpec]
+    rate_N_s_per_mm: float | None = Field(default=None, gt=0)
+    description: str = ""
+
+
 class DesignSpec(StrictModel):
     """The design position: the hardpoints are the static equilibrium under this wheel load."""
 
@@ -410,6 +422,7 @@ class SuspensionFile(StrictModel):
     wheel: WheelSpec
     connections: dict[str, ConnectionSpec]
     springs: dict[str, SpringSpec] = {}
+    dampers: dict[str, DamperSpec] = {}
     stops: dict[str, StopSpec] = {}
     design: DesignSpec
     kinematic: bool = False

@@ -139,6 +139,23 @@ class Spring(ReadOnlyArrays):
 
 
 @dataclass(frozen=True)
+class Damper(ReadOnlyArrays):
+    """A damper between ``points_mm`` of two parts (config frame, design position). Quasi-static
+    rig: no force; its length and velocity ratio are reported. ``rate_N_s_per_mm``: linear
+    damping for ADAMS/Car's property file (None: not given)."""
+
+    name: str
+    parts: tuple[str, str]
+    points_mm: tuple[np.ndarray, np.ndarray]
+    rate_N_s_per_mm: float | None = None
+    array_fields = ("points_mm",)
+
+    @property
+    def installed_length_mm(self) -> float:
+        return float(np.linalg.norm(self.points_mm[1] - self.points_mm[0]))
+
+
+@dataclass(frozen=True)
 class Wheel(ReadOnlyArrays):
     part: str
     centre_mm: np.ndarray
@@ -262,8 +279,10 @@ class AntiRollBar(ReadOnlyArrays):
 class Axle:
     """The axle of a :class:`~elastokin.config.suspension.Suspension`: ``sides`` (the config's
     first), the name suffix of the other side's copies, the parts declared once, the steering,
-    the anti-roll bar, vehicle data and the springs balanced at the design position (one
-    per side)."""
+    the anti-roll bar, vehicle data, the springs balanced at the design position (one
+    per side) and the items joining the two sides (``across``: a connection, spring, damper
+    or stop naming the other side's copy of a corner part, e.g. a heave spring between the
+    rockers; kept once)."""
 
     sides: tuple[str, str]
     suffix: str
@@ -272,6 +291,7 @@ class Axle:
     anti_roll_bar: AntiRollBar | None
     vehicle: VehicleSpec | None
     balance_springs: tuple[str, ...]
+    across: tuple[str, ...] = ()
 
 
 def outboard_direction(frame, side: str) -> np.ndarray:
@@ -324,6 +344,8 @@ class Suspension:
     axle: Axle | None = None
     #: the flexible parts (beam elements); every other part is rigid
     beams: tuple[Beam, ...] = ()
+    #: dampers (no force on the quasi-static rig: lengths and velocity ratios reported)
+    dampers: tuple[Damper, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.wheels:

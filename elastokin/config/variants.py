@@ -132,29 +132,35 @@ def relabelled(suspension: Suspension, source: str) -> Suspension:
 
 
 def corner(suspension: Suspension) -> Suspension:
-    """The config side's corner of an axle: its config without the ``axle`` section, resolved
-    again (what CMM identification and the stiffness fit of a decoupled axle work on);
-    overrides applied to ``suspension`` through this module are not carried over. A corner
-    is returned as it is."""
+    """The config side's corner of an axle: its config without the ``axle`` section and the
+    items joining the two sides (a heave spring between the rockers), resolved again (what
+    CMM identification and the stiffness fit of a decoupled axle work on); overrides applied
+    to ``suspension`` through this module are not carried over. A corner is returned as it
+    is."""
     if suspension.axle is None:
         return suspension
     from elastokin.config.loading import suspension_from_dict
 
-    alone = suspension_from_dict({k: v for k, v in suspension.raw.items() if k != "axle"},
-                                 suspension.source, suspension.sha256,
+    across = set(suspension.axle.across)
+    raw = {k: ({n: item for n, item in v.items() if n not in across}
+               if k in ("connections", "springs", "dampers", "stops") and v else v)
+           for k, v in suspension.raw.items() if k != "axle"}
+    alone = suspension_from_dict(raw, suspension.source, suspension.sha256,
                                  config_sha256=suspension.config_sha256,
                                  rig_sha256=suspension.rig_sha256)
     return dataclasses.replace(alone, rig=suspension.rig, rig_source=suspension.rig_source)
 
 
 def side_couplings(suspension: Suspension) -> list[str]:
-    """What couples the two sides of an axle (shared parts, the anti-roll bar, the steering
-    rack); empty for a corner, or an axle whose corners are independent (then each side
-    responds to its own wheel's inputs as its corner alone would)."""
+    """What couples the two sides of an axle (shared parts, items joining the two sides, the
+    anti-roll bar, the steering rack); empty for a corner, or an axle whose corners are
+    independent (then each side responds to its own wheel's inputs as its corner alone
+    would)."""
     a = suspension.axle
     if a is None:
         return []
     out = [f"shared part '{p}'" for p in a.shared]
+    out += [f"'{name}', joining the two sides" for name in a.across]
     if a.anti_roll_bar is not None:
         out.append("the anti-roll bar")
     if a.steering is not None and a.steering.part not in a.shared:

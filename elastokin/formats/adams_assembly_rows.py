@@ -1,9 +1,9 @@
-"""The ``[BUSHING_ASSEMBLY]`` and ``[NSPRING_ASSEMBLY]`` blocks of an exported subsystem, with
-their SYMMETRY: ``left/right`` (one block, the same values on both sides: a corner, or an axle
-whose other side is the mirror), ``single`` (a bushing declared once on an axle, between shared
-parts or the ground), or a ``left`` and a ``right`` block when the two sides of an axle differ
-(``axle.other_side``): each side's preload or spring force, and for a bushing whose laws differ
-its own property file ``<usage>_<side>.bus``.
+"""The ``[BUSHING_ASSEMBLY]``, ``[NSPRING_ASSEMBLY]`` and ``[DAMPER_ASSEMBLY]`` blocks of an
+exported subsystem, with their SYMMETRY: ``left/right`` (one block, the same values on both
+sides: a corner, or an axle whose other side is the mirror), ``single`` (a bushing declared once
+on an axle, between shared parts or the ground), or a ``left`` and a ``right`` block when the
+two sides of an axle differ (``axle.other_side``): each side's preload or spring force, and for
+a bushing whose laws differ its own property file ``<usage>_<side>.bus``.
 
 Pure Python/numpy. Preloads are in each bushing's frame (the other side's in its mirrored frame,
 :mod:`elastokin.config.axle`), N and N*mm, elastokin's ``+K*u`` convention, rounded to 1e-6;
@@ -25,7 +25,7 @@ from elastokin.formats.adams_property_files import number
 from elastokin.formats.adams_subsystem import AssemblyRow, SubsystemSpec
 from elastokin.physics.pose import euler_zxz_deg
 
-__all__ = ["bushing_rows", "is_mirrored_axle", "spring_rows"]
+__all__ = ["bushing_rows", "damper_rows", "is_mirrored_axle", "spring_rows"]
 
 #: relative difference under which the two sides' preloads or spring forces are the same
 SAME_LOAD_RTOL = 1e-6
@@ -132,4 +132,24 @@ def spring_rows(s: Suspension, spec: SubsystemSpec, names: Iterable[str],
         rows += [AssemblyRow(usages[name], file, (("VALUE_TYPE", "preload"),
                                                   ("USER_VALUE", values[side])), comments, side)
                  for side in ("left", "right")]
+    return rows
+
+
+def damper_rows(s: Suspension, spec: SubsystemSpec, names: Iterable[str],
+                usages: Mapping[str, str]) -> list[AssemblyRow]:
+    """The damper blocks of the corner dampers ``names`` that have a rate (the property file
+    holds it): ``left/right``, or ``single`` for one kept once (across the car, or among
+    shared parts and the ground)."""
+    rows = []
+    for name in names:
+        d = next(x for x in s.dampers if x.name == name)
+        if d.rate_N_s_per_mm is None:
+            continue
+        symmetry = "single" if s.axle is not None and _other(s, name, s.dampers) is None \
+            else "left/right"
+        comments = (f"$ elastokin damper {d.name}: {d.parts[0]} -> {d.parts[1]}, "
+                    f"{d.rate_N_s_per_mm:g} N*s/mm, installed length "
+                    f"{d.installed_length_mm:.3f} mm",)
+        rows.append(AssemblyRow(usages[name], spec.path("dampers.tbl", f"{usages[name]}.dpr"),
+                                (), comments, symmetry))
     return rows

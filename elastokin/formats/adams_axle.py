@@ -67,6 +67,7 @@ class AxleSubsystem:
     hardpoints: tuple[str, ...]
     bushings: tuple[str, ...]
     springs: tuple[str, ...]
+    dampers: tuple[str, ...] = ()
 
 
 def _points(value, names: set[str]) -> set[str]:
@@ -92,9 +93,10 @@ def axle_subsystems(s: Suspension) -> dict[str, AxleSubsystem]:
     names = set(raw["hardpoints"])
     corner_bushings = tuple(b.name for b in s.bushings if b.name in raw["connections"])
     corner_springs = tuple(sp.name for sp in s.springs if sp.name in raw.get("springs", {}))
+    dampers = tuple(d.name for d in s.dampers if d.name in raw.get("dampers", {}))
     if s.axle is None:
         return {"suspension": AxleSubsystem("suspension", tuple(s.hardpoints), corner_bushings,
-                                            corner_springs)}
+                                            corner_springs, dampers)}
     conns = {"anti_roll_bar": set(), "steering": set()}
     arb = (raw["axle"] or {}).get("anti_roll_bar")
     keep = set(s.axle.shared) | {s.ground}
@@ -117,7 +119,7 @@ def axle_subsystems(s: Suspension) -> dict[str, AxleSubsystem]:
     out = {"suspension": AxleSubsystem(
         "suspension", tuple(n for n in raw["hardpoints"] if not any(n in v for v in own.values())),
         tuple(b for b in corner_bushings if not any(b in cs for cs in conns.values())),
-        corner_springs)}
+        corner_springs, dampers)}
     for role in ("anti_roll_bar", "steering"):
         if conns[role] or own[role]:
             out[role] = AxleSubsystem(role, tuple(n for n in raw["hardpoints"] if n in own[role]),
@@ -130,22 +132,22 @@ def axle_subsystems(s: Suspension) -> dict[str, AxleSubsystem]:
 
 
 def kept_once_hardpoints(s: Suspension) -> frozenset[str]:
-    """On an axle, the config's hardpoints that only connections, springs and stops kept once
-    name (among shared parts and the ground, not in ``axle.both_sides``: a Panhard rod's ends,
-    a Watt's linkage's): ADAMS/Car's ``single`` hardpoints. Empty for a corner."""
+    """On an axle, the config's hardpoints that only connections, springs, dampers and stops
+    kept once name (among shared parts and the ground, not in ``axle.both_sides``: a Panhard
+    rod's ends, a Watt's linkage's): ADAMS/Car's ``single`` hardpoints. Empty for a corner."""
     raw = s.raw
     if s.axle is None:
         return frozenset()
     names = set(raw["hardpoints"])
     both = set((raw["axle"] or {}).get("both_sides") or ())
     once, mirrored = set(), set()
-    for section in ("connections", "springs", "stops"):
+    for section in ("connections", "springs", "dampers", "stops"):
         for item, spec in (raw.get(section) or {}).items():
             kept = item not in both and declared_once(tuple(spec["parts"]), s.axle.shared,
                                                       s.ground)
             (once if kept else mirrored).update(_points(spec, names))
     rest = {k: v for k, v in raw.items()
-            if k not in ("hardpoints", "connections", "springs", "stops", "axle")}
+            if k not in ("hardpoints", "connections", "springs", "dampers", "stops", "axle")}
     return frozenset(once - mirrored - _points(rest, names))
 
 

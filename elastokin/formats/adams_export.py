@@ -13,6 +13,7 @@ Layout of ``out_dir`` (name it ``<database>.cdb``)::
                                 [PARAMETER] (anti-roll bar, steering)
     bushings.tbl/<usage>.bus    one per bushing (and side, where the sides differ)
     springs.tbl/<usage>.spr     one per spring
+    dampers.tbl/<usage>.dpr     one per damper with a rate (its [DAMPER_ASSEMBLY] too)
     curves.tbl/<role>.crv       a nonlinear anti-roll bar or rack ratio (elastokin's file)
     assemblies.tbl/<name>.asy   an axle with an anti-roll bar or steering: the assembly
     mapping.yaml                elastokin <-> ADAMS names, for import-adams
@@ -34,7 +35,7 @@ from pathlib import Path
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_assembly_rows import bushing_rows, spring_rows
+from elastokin.formats.adams_assembly_rows import bushing_rows, damper_rows, spring_rows
 from elastokin.formats.adams_axle import (
     AXLE_ROLES,
     arb_parameters,
@@ -45,7 +46,11 @@ from elastokin.formats.adams_axle import (
     steering_parameters,
 )
 from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
-from elastokin.formats.adams_property_files import bushing_file_text, spring_file_text
+from elastokin.formats.adams_property_files import (
+    bushing_file_text,
+    damper_file_text,
+    spring_file_text,
+)
 from elastokin.formats.adams_subsystem import (
     MINOR_ROLES,
     SubsystemSpec,
@@ -197,11 +202,12 @@ def _parameters(s: Suspension, role: str, mapping: AdamsMapping | None):
 def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
                  written: Mapping[str, Mapping[str, tuple[str, str]]],
                  bushings: Mapping[str, Mapping[str, str]], springs: Mapping[str, str],
-                 extra: Mapping[str, dict] | None = None) -> str:
+                 extra: Mapping[str, dict] | None = None,
+                 dampers: Mapping[str, str] | None = None) -> str:
     """The mapping file that imports the exported database back into ``s``'s config: per
     subsystem (``specs``, by section) its names (``written``: elastokin hardpoint -> (ADAMS
-    name, side); ``bushings``: elastokin bushing -> usage), the springs' usages and each
-    section's ``extra`` keys (parameter names, curve file)."""
+    name, side); ``bushings``: elastokin bushing -> usage), the springs' and dampers' usages
+    and each section's ``extra`` keys (parameter names, curve file)."""
     def section(role: str) -> dict:
         spec = specs[role]
         out = {"subsystem": {"name": spec.name, "template": spec.template,
@@ -217,7 +223,8 @@ def mapping_text(s: Suspension, specs: Mapping[str, SubsystemSpec],
         return out
 
     data = {"elastokin_adams_mapping": 1, "side": s.side, **section("suspension"),
-            "springs": {n: {"usage": u} for n, u in springs.items()}}
+            "springs": {n: {"usage": u} for n, u in springs.items()},
+            **({"dampers": {n: {"usage": u} for n, u in dampers.items()}} if dampers else {})}
     for role in ("anti_roll_bar", "steering"):
         if role in specs:
             data[role] = {**section(role), **(extra or {}).get(role, {})}
@@ -287,6 +294,12 @@ def export_adams(s: Suspension, out_dir: str | Path,
     usages = _usages([b for p in parts.values() for b in p.bushings], given, "bushings", source)
     springs = _usages(parts["suspension"].springs, mapping.spring_usage if mapping else {},
                       "springs", source)
+    dampers = _usages(parts["suspension"].dampers, mapping.damper_usage if mapping else {},
+                      "dampers", source)
+    unrated = [d.name for d in s.dampers if d.name in dampers and d.rate_N_s_per_mm is None]
+    if unrated and warnings is not None:
+        warnings.append(f"damper(s) {', '.join(unrated)} without rate_N_s_per_mm: their points "
+                        "are exported, no [DAMPER_ASSEMBLY] (its property file needs the rate)")
     stamp = timestamp or export_timestamp()
     files, bus_files, written, extra = {}, {}, {}, {}
     for role, part in parts.items():
@@ -297,11 +310,15 @@ def export_adams(s: Suspension, out_dir: str | Path,
         bus_files.update(more)
         params, extra[role] = _parameters(s, role, mapping)
         files[f"subsystems.tbl/{sp.name}.sub"] = subsystem_text(
-            s, sp, rows, brows, spring_rows(s, sp, part.springs, springs, force), stamp, params)
+            s, sp, rows, brows, spring_rows(s, sp, part.springs, springs, force), stamp, params,
+            damper_rows(s, sp, part.dampers, dampers))
     for file, name in bus_files.items():
         files[f"bushings.tbl/{file}"] = bushing_file_text(s, name, range_mm, range_deg)
     for name in parts["suspension"].springs:
         files[f"springs.tbl/{springs[name]}.spr"] = spring_file_text(s, name, force.get(name))
+    for name in parts["suspension"].dampers:
+        if name not in unrated:
+            files[f"dampers.tbl/{dampers[name]}.dpr"] = damper_file_text(s, name)
     for role, keys in extra.items():
         if "curve" in keys:
             files[keys["curve"]] = curve_file_text(s, role)
@@ -309,7 +326,7 @@ def export_adams(s: Suspension, out_dir: str | Path,
         files[f"assemblies.tbl/{spec.name}.asy"] = assembly_text(s, specs, stamp)
     files["mapping.yaml"] = mapping_text(
         s, specs, written, {r: {b: usages[b] for b in p.bushings} for r, p in parts.items()},
-        springs, extra)
+        springs, extra, dampers)
     out = Path(out_dir)
     paths = []
     for rel, text in files.items():

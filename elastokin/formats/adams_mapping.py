@@ -76,8 +76,8 @@ PARAMETER_KEYS: dict[str, dict[str, str]] = {
 class AdamsMapping:
     """A mapping file: elastokin hardpoint -> (ADAMS hardpoint, side or None for the default);
     elastokin bushing -> property file (``.bus`` or ``.xml``, as written: relative to the
-    mapping file's folder; the path: :meth:`bushing_file`) and ADAMS usage; elastokin spring ->
-    ADAMS usage; ``subsystem``: the subsystem file's name, template, major and minor role,
+    mapping file's folder; the path: :meth:`bushing_file`) and ADAMS usage; elastokin spring and
+    damper -> ADAMS usage; ``subsystem``: the subsystem file's name, template, major and minor role,
     database (export).
 
     An axle's ``anti_roll_bar`` and ``steering`` subsystems are mappings of their own (None:
@@ -94,6 +94,7 @@ class AdamsMapping:
     bushing_usage: dict[str, str] = field(default_factory=dict)
     spring_usage: dict[str, str] = field(default_factory=dict)
     subsystem: dict[str, str] = field(default_factory=dict)
+    damper_usage: dict[str, str] = field(default_factory=dict)
     anti_roll_bar: AdamsMapping | None = None
     steering: AdamsMapping | None = None
     parameters: dict[str, str] = field(default_factory=dict)
@@ -128,7 +129,7 @@ class AdamsMapping:
 
 
 _MAPPING_KEYS = ("elastokin_adams_mapping", "side", "subsystem", "hardpoints", "bushings",
-                 "springs", "anti_roll_bar", "steering")
+                 "springs", "dampers", "anti_roll_bar", "steering")
 _SECTION_KEYS = ("subsystem", "hardpoints", "bushings", "curve")
 
 
@@ -242,10 +243,12 @@ def read_mapping(path: str | Path, roots: Roots | None = None) -> AdamsMapping:
     hardpoints = _hardpoints(p, data.get("hardpoints"))
     bushings = _named(p, "bushings", data.get("bushings"), ("file", "usage"))
     springs = _named(p, "springs", data.get("springs"), ("usage",))
+    dampers = _named(p, "dampers", data.get("dampers"), ("usage",))
     return AdamsMapping(
         p, side, hardpoints, {n: b["file"] for n, b in bushings.items() if "file" in b},
         {n: b["usage"] for n, b in bushings.items() if "usage" in b},
         {n: s["usage"] for n, s in springs.items()},
         _subsystem(p, data.get("subsystem")),
         anti_roll_bar=_section(path, data.get("anti_roll_bar"), "anti_roll_bar", side, roots),
-        steering=_section(path, data.get("steering"), "steering", side, roots), roots=roots)
+        steering=_section(path, data.get("steering"), "steering", side, roots), roots=roots,
+        damper_usage={n: d["usage"] for n, d in dampers.items()})

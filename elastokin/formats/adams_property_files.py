@@ -1,7 +1,8 @@
-"""ADAMS/Car property files out: a bushing property file (``.bus``) per bushing and a spring
-property file (``.spr``) per spring, as TeimOrbit text in mm, newton, deg, kg, sec, and the
-writing conventions every exported file shares (titles at column 1, keys padded, numbers as the
-shortest text that reads back as the same float).
+"""ADAMS/Car property files out: a bushing property file (``.bus``) per bushing, a spring property
+file (``.spr``) per spring and a damper property file (``.dpr``) per damper with a rate, as
+TeimOrbit text in mm, newton, deg, kg, sec, and the writing conventions every exported file
+shares (titles at column 1, keys padded, numbers as the shortest text that reads back as the
+same float).
 
 Pure Python/numpy. Curves are in the bushing frame (elastokin's ``+K*u`` convention); a linear
 rate is written as a straight table over +-``range``, a curve as given (extended with its end
@@ -26,6 +27,7 @@ __all__ = [
     "UNITS_LINES",
     "bushing_file_text",
     "curve_points",
+    "damper_file_text",
     "header_lines",
     "key_line",
     "number",
@@ -150,4 +152,20 @@ def spring_file_text(s: Suspension, spring: str, force_N: float | None = None,
              key_line("FREE_LENGTH", clean(round(free, 9)), 11),
              rule("CURVE"), "[CURVE]",
              *table_lines(("disp", "force"), u, [sp.rate_N_per_mm * x for x in u])]
+    return "\n".join(lines) + "\n"
+
+
+def damper_file_text(s: Suspension, damper: str, half_range: float = 1000.0) -> str:
+    """A ``.dpr`` damper property file (mm, newton, sec): the linear damping rate as a
+    straight ``{vel force}`` table (velocity mm/s, + extension; force N, + resisting
+    extension) over +-``half_range`` mm/s."""
+    d = next(x for x in s.dampers if x.name == damper)
+    v = [clean(k * half_range / 2) for k in range(-2, 3)]
+    lines = [provenance(s),
+             f"$ damper {d.name}: {d.parts[0]} -> {d.parts[1]}; linear, "
+             f"{d.rate_N_s_per_mm:g} N*s/mm (elastokin's rig is quasi-static: not used there).",
+             "$ vel: extension velocity (mm/s), force: the damper's force (N), + in extension.",
+             *header_lines("dpr", 4.0, [f"elastokin damper {d.name} of {s.name}"]),
+             rule("UNITS"), *UNITS_LINES, rule("CURVE"), "[CURVE]",
+             *table_lines(("vel", "force"), v, [clean(d.rate_N_s_per_mm * x) for x in v])]
     return "\n".join(lines) + "\n"

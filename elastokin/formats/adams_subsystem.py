@@ -271,9 +271,10 @@ def parameter_lines(rows: list[ParameterRow]) -> list[str]:
 
 def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
                    bushings: list[AssemblyRow], springs: list[AssemblyRow],
-                   timestamp: str, parameters: list[ParameterRow] | None = None) -> str:
-    """The subsystem file: headers, units (mm, newton, deg, kg, sec), hardpoints, bushing and
-    spring assemblies (each with its SYMMETRY), parameters."""
+                   timestamp: str, parameters: list[ParameterRow] | None = None,
+                   dampers: list[AssemblyRow] | None = None) -> str:
+    """The subsystem file: headers, units (mm, newton, deg, kg, sec), hardpoints, bushing,
+    spring and damper assemblies (each with its SYMMETRY), parameters."""
     lines = [provenance(s),
              "$ Hardpoints in the ADAMS/Car global frame (X rearward, Y right, Z up), mm;",
              "$ 'left/right' rows store the left point (Y < 0). Bushing preloads: loads at the",
@@ -299,6 +300,8 @@ def subsystem_text(s: Suspension, spec: SubsystemSpec, rows: list[HardpointRow],
         lines += _assembly("BUSHING_ASSEMBLY", ".ACAR.forces.ac_bushing", b)
     for sp in springs:
         lines += _assembly("NSPRING_ASSEMBLY", ".ACAR.forces.ac_spring", sp)
+    for d in dampers or []:
+        lines += _assembly("DAMPER_ASSEMBLY", ".ACAR.forces.ac_damper", d)
     lines += parameter_lines(parameters or [])
     return "\n".join(lines) + "\n"
 

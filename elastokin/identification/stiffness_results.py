@@ -14,7 +14,7 @@ import numpy as np
 from elastokin.config.schema import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
-from elastokin.rig.channels import bushing_columns
+from elastokin.rig.item_channels import bushing_columns
 from elastokin.rig.sweeps import Sweep
 
 

@@ -66,7 +66,7 @@ def free_parts(model: SuspensionModel, settings) -> list[tuple[str, int]]:
 def free_parts_message(model: SuspensionModel, free: list[tuple[str, int]]) -> str:
     """One line naming the free parts (:func:`free_parts`) and their connections."""
     s = model.suspension
-    items = [*s.joints, *s.links, *s.bushings, *s.springs, *s.stops]
+    items = [*s.joints, *s.links, *s.bushings, *s.springs, *s.stops, *s.dampers]
     parts = []
     for part, n in free:
         held = [c.name for c in items if part in c.parts]

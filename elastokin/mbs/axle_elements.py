@@ -1,6 +1,8 @@
-"""Elements of stops and axles in Exudyn: bump and rebound stops (unilateral springs along the
-line between two points), the anti-roll bar's torsion spring between its two halves, and the
-steering lock (the rack held at its travel along its axis unless the rig drives it).
+"""Force elements, stops and axle elements in Exudyn: coil springs and dampers (along the
+line between two points; a damper carries no force in the quasi-static rig, its length is
+recorded), bump and rebound stops (unilateral springs along that line), the anti-roll bar's
+torsion spring between its two halves, and the steering lock (the rack held at its travel
+along its axis unless the rig drives it).
 
 Units mm, N, N*mm; rotations rad inside Exudyn, the laws take mm and deg; the config frame.
 """
@@ -25,6 +27,48 @@ RAD = np.pi / 180.0
 #: times a rubber bushing's rates, a rigid one-piece bar to the solver and its sensitivities
 BAR_TRANSLATION_RATE = 1.0e6
 BAR_BENDING_RATE = 1.0e10
+
+
+def add_line_elements(model) -> tuple[dict[str, int], dict[str, int], dict[str, int]]:
+    """The springs (each with its design force, ``model.spring_force``), dampers and stops
+    of the model's suspension, by name: the elements acting along the line between two
+    points."""
+    s = model.suspension
+    return ({sp.name: add_spring(model, sp) for sp in s.springs},
+            {dm.name: add_damper(model, dm) for dm in s.dampers},
+            {st.name: add_stop(model, st) for st in s.stops})
+
+
+def add_spring(model, spring) -> int:
+    """The coil spring ``spring`` (:class:`~elastokin.config.suspension.Spring`) between its
+    seats, carrying its design force (``model.spring_force``) at its installed length."""
+    this = of("springs", spring.name, lambda x: x)
+    m0 = model.position_marker(spring.parts[0], lambda s: this(s).seats_mm[0])
+    m1 = model.position_marker(spring.parts[1], lambda s: this(s).seats_mm[1])
+
+    def ref_len(s, preloads) -> float:
+        # compression force P at the installed length L: reference length L + P / k
+        x = this(s)
+        return x.installed_length_mm + preloads.spring_force[x.name] / x.rate_N_per_mm
+
+    obj = model.mbs.AddObject(ObjectConnectorSpringDamper(
+        markerNumbers=[m0, m1], referenceLength=ref_len(model.suspension, model.preloads),
+        stiffness=spring.rate_N_per_mm, damping=0.0, name=f"spring:{spring.name}"))
+    model.track("object", obj, "referenceLength", ref_len)
+    return model.track("object", obj, "stiffness", lambda s, _: this(s).rate_N_per_mm)
+
+
+def add_damper(model, damper) -> int:
+    """The damper ``damper`` (:class:`~elastokin.config.suspension.Damper`) between its
+    points: a connector without stiffness or damping (the rig is quasi-static: a damper
+    carries no force at rest), whose length is recorded."""
+    this = of("dampers", damper.name, lambda x: x)
+    m0 = model.position_marker(damper.parts[0], lambda s: this(s).points_mm[0])
+    m1 = model.position_marker(damper.parts[1], lambda s: this(s).points_mm[1])
+    return model.track("object", model.mbs.AddObject(ObjectConnectorSpringDamper(
+        markerNumbers=[m0, m1], referenceLength=damper.installed_length_mm, stiffness=0.0,
+        damping=0.0, name=f"damper:{damper.name}")), "referenceLength",
+        lambda s, _: this(s).installed_length_mm)
 
 
 def stop_function(law, kind: str, symbolic: bool):

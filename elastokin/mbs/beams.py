@@ -34,13 +34,14 @@ from exudyn.itemInterface import (
     NodeRigidBodyRxyz,
     ObjectBeamGeometricallyExact,
     ObjectJointGeneric,
+    SensorNode,
 )
 from exudyn.rigidBodyUtilities import RotationMatrix2RotXYZ, RotXYZ2G
 
 from elastokin.config.suspension import Beam
 from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
-from elastokin.physics.beams import NODE_TOLERANCE_MM
+from elastokin.physics.beams import NODE_TOLERANCE_MM, stations_mm
 
 __all__ = ["BeamBody", "NOISE_FACTOR"]
 
@@ -104,6 +105,8 @@ class BeamBody:
         self.frames: dict[int, np.ndarray] = {}  # node -> its frame (columns, config frame)
         self.positions: dict[int, np.ndarray] = {}  # node -> its design position
         self.named: dict[int, int] = {}  # index of a named node -> its node on the node line
+        #: the node line's nodes in order, each place once (physics.beams.node_line's)
+        self.line: list[int] = []
         self.elements: list[int] = []
         self.element_lengths: list[float] = []
         self.ties: list[int] = []
@@ -144,11 +147,7 @@ class BeamBody:
         nodes."""
         b = self.beam
         n = b.elements_per_segment
-        pts = b.nodes_mm
-        stations = [pts[run.segments[0]]]
-        for i in run.segments:
-            stations += [pts[i] + (pts[i + 1] - pts[i]) * k / n for k in range(1, n + 1)]
-        stations = np.array(stations)
+        stations = stations_mm(b.nodes_mm, run.segments, n)
         k6 = stiffness_diagonal(b, run.relabelled)
         offset = run.offset_mm
         if np.linalg.norm(offset) <= NODE_TOLERANCE_MM:
@@ -166,6 +165,7 @@ class BeamBody:
                     MarkerNodeRigid(nodeNumber=node),
                     MarkerBodyRigid(bodyNumber=shear_elements[e],
                                     localPosition=[x, local[1], local[2]])))
+        self.line += line[1:] if self.line else line  # where two runs meet: one node
         for j, i in enumerate(run.segments):
             self.named.setdefault(i, line[j * n])
         self.named.setdefault(run.segments[-1] + 1, line[-1])
@@ -205,6 +205,18 @@ class BeamBody:
 
     def position_marker(self, position_mm) -> int:
         return self.mbs.AddMarker(MarkerNodePosition(nodeNumber=self.node_at(position_mm)))
+
+    def record_line(self, sensors: dict[str, int]) -> list[int]:
+        """Record the node line's nodes' rotation matrices and positions at every step, into
+        ``sensors`` as ``part:node:<n>:R`` and ``part:node:<n>:disp`` (the keys the load
+        recorder reads a node's pose by, :mod:`elastokin.mbs.loads`); returns the nodes."""
+        ovt = exu.OutputVariableType
+        for node in self.line:
+            for key, output in (("R", ovt.RotationMatrix), ("disp", ovt.Position)):
+                sensors[f"part:node:{node}:{key}"] = self.mbs.AddSensor(SensorNode(
+                    nodeNumber=node, outputVariableType=output, storeInternal=True,
+                    writeToFile=False))
+        return list(self.line)
 
     # ------------------------------------------------------------------ checks
     def rigid_rows(self, n_coordinates: int) -> np.ndarray:

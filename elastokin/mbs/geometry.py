@@ -60,8 +60,8 @@ def item_preloads(suspension, stiffness_scale: float, preloads=None,
 
 def named(suspension, collection: str, name: str):
     """The item ``name`` of a suspension's ``collection``: ``joints``, ``links``,
-    ``bushings``, ``springs``, ``stops`` (by name), ``wheels`` (by side), ``steering`` and
-    ``anti_roll_bar`` (the axle's; no name)."""
+    ``bushings``, ``springs``, ``dampers``, ``stops`` (by name), ``wheels`` (by side),
+    ``steering`` and ``anti_roll_bar`` (the axle's; no name)."""
     if collection == "wheels":
         return suspension.wheels[name]
     if collection in ("steering", "anti_roll_bar"):

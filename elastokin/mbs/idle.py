@@ -35,7 +35,7 @@ def idle_axes(model) -> dict[str, list[np.ndarray]]:
     """Per part, the unit axes (config frame) about which it can turn while the wheel parts
     are held and every joint (bushings as their ideal joints) is kept: the idle spins."""
     mbs, s = model.mbs, model.suspension
-    wheels = set(model.wheel_parts.values())
+    wheels = list(dict.fromkeys(model.wheel_parts.values()))  # in order: reproducible
     holds = []
     for wheel in wheels:
         marker_g = mbs.AddMarker(MarkerBodyRigid(bodyNumber=model.ground,

@@ -12,7 +12,7 @@ rotation identity, so a body's local frame is the config frame at the design pos
   modelled by its ideal joint (``Bushing.kinematic``) becomes that joint, plus a regularising
   rotational spring of 1e-3 times its rates on the joint's free rotations (it only fixes idle
   spins, e.g. of a link arm about its own axis, and does not change the kinematics);
-- coil springs: ``ObjectConnectorSpringDamper`` between the seats;
+- coil springs, dampers (no force at rest): ``ObjectConnectorSpringDamper`` between points;
 - ball-joint friction (:mod:`elastokin.mbs.friction`), for the synthetic real suspension.
 
 The model knows nothing of a rig. Whatever drives it is attached from outside as **supports**
@@ -25,16 +25,11 @@ attachments' paths.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from exudyn.itemInterface import (
-    LoadForceVector,
-    LoadTorqueVector,
-    MarkerBodyPosition,
-    MarkerBodyRigid,
     ObjectConnectorDistance,
-    ObjectConnectorSpringDamper,
     ObjectGround,
     ObjectJointGeneric,
     ObjectJointSpherical,
@@ -47,7 +42,8 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
-from elastokin.mbs.axle_elements import add_anti_roll_bar, add_steering_lock, add_stop
+from elastokin.mbs.attachments import Attachments
+from elastokin.mbs.axle_elements import add_anti_roll_bar, add_line_elements, add_steering_lock
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
@@ -75,7 +71,7 @@ def joint_points(j) -> tuple[np.ndarray, np.ndarray]:
     return j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0, j.position_mm + shift1
 
 
-class SuspensionModel:
+class SuspensionModel(Attachments):
     """An assembled Exudyn model of one suspension.
 
     ``preloads``: spring forces and bushing loads at the design position (default: the
@@ -175,24 +171,7 @@ class SuspensionModel:
         self.friction = {} if spec is None else {
             name: friction.add_element(self, name, torque, spec.presliding_deg * DEG)
             for name, torque in spec.torque_Nmm.items()}
-        self.springs = {}
-        for sp in s.springs:
-            spring = of("springs", sp.name, lambda x: x)
-            m0 = self.position_marker(sp.parts[0], lambda s, f=spring: f(s).seats_mm[0])
-            m1 = self.position_marker(sp.parts[1], lambda s, f=spring: f(s).seats_mm[1])
-
-            def ref_len(s, preloads, f=spring) -> float:
-                # compression force P at the installed length L: reference length L + P / k
-                x = f(s)
-                return x.installed_length_mm + preloads.spring_force[x.name] / x.rate_N_per_mm
-
-            number = mbs.AddObject(ObjectConnectorSpringDamper(
-                markerNumbers=[m0, m1], referenceLength=ref_len(s, self.preloads),
-                stiffness=sp.rate_N_per_mm, damping=0.0, name=f"spring:{sp.name}"))
-            self.track("object", number, "referenceLength", ref_len)
-            self.springs[sp.name] = self.track("object", number, "stiffness",
-                                               lambda s, _, f=spring: f(s).rate_N_per_mm)
-        self.stops = {st.name: add_stop(self, st) for st in s.stops}
+        self.springs, self.dampers, self.stops = add_line_elements(self)
         bar = s.axle.anti_roll_bar if s.axle is not None else None
         self.anti_roll_bar = add_anti_roll_bar(self, bar) if bar is not None else None
         self._add_sensors()
@@ -232,6 +211,7 @@ class SuspensionModel:
         items += [(b.parts, (b.position_mm, b.position_mm)) for b in s.bushings]
         items += [(sp.parts, sp.seats_mm) for sp in s.springs]
         items += [(st.parts, st.points_mm) for st in s.stops]
+        items += [(dm.parts, dm.points_mm) for dm in s.dampers]
         for parts, (p0, p1) in items:
             for part, p in zip(parts, (p0, p1)):
                 if part in pts:
@@ -243,80 +223,6 @@ class SuspensionModel:
         for part in bar.parts if bar is not None else ():
             pts[part].append(bar.position_mm)
         return pts
-
-    def body_or_ground(self, part: str) -> int:
-        if part == self.suspension.ground:
-            return self.ground
-        return self.body[part] if part in self.body else self.rig_bodies[part]
-
-    def add_rig_body(self, name: str, point_mm, held: Iterable[int]) -> str:
-        """A rigid body of the rig (not a part of the suspension: no pose recorded) at
-        ``point_mm`` (config frame), held to ground in the ``held`` directions (6 flags,
-        config frame) by a support named ``name`` that every solve keeps (a lock at offset
-        0); supports and loads of parts can act against it (``base``). Returns ``name``."""
-        if name in self.rig_bodies:
-            raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
-        ref = np.asarray(self.references.get(name, point_mm), float)
-        self.ref[name] = ref
-        self.rig_bodies[name] = self.mbs.CreateRigidBody(
-            referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
-            nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
-        self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
-        if self.options.loads:  # the rig's loads on the parts are reported where they act
-            self._add_pose_sensors(name, self.rig_bodies[name])
-        return self.add_support(name, name, ref, held, lock=np.zeros(6))
-
-    def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
-        """Change which directions a support holds (e.g. a rig body let free to heave)."""
-        self.mbs.SetObjectParameter(self.supports[name]["object"], "constrainedAxes",
-                                    [int(c) for c in constrained])
-        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: changing '{name}'")
-
-    def track(self, kind: str, number, param: str, getter) -> int:
-        """Register a design-dependent parameter of an item (:mod:`elastokin.mbs.geometry`);
-        returns ``number``."""
-        self.geometry.track(kind, number, param, getter)
-        return number
-
-    def _where(self, position):
-        """(value at this model's design, getter of a suspension or None) of a position
-        given as an array or as a function of the suspension (tracked for twins)."""
-        if callable(position):
-            return position(self.suspension), position
-        return position, None
-
-    def rigid_marker(self, part: str, position, frame) -> int:
-        """A rigid marker on ``part`` at ``position`` (mm, config frame, design position)
-        with axes ``frame`` (columns); on a beam part, at one of its named nodes. Either may
-        be a function of the suspension: the marker then follows a twin's design
-        (:mod:`elastokin.mbs.geometry`)."""
-        (position, where), (frame, axes) = self._where(position), self._where(frame)
-        if part in self.beams:
-            return self.beams[part].rigid_marker(position, frame)
-        ref = self.ref[part]
-        local = np.asarray(position) - ref
-        marker = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body_or_ground(part),
-                                                    localHT=exu.HT(np.asarray(frame), local)))
-        if where is not None or axes is not None:
-            def ht(s, _, p=where or (lambda s: position), f=axes or (lambda s: frame)):
-                return exu.HT(np.asarray(f(s), float), np.asarray(p(s)) - ref)
-
-            self.track("marker", marker, "localHT", ht)
-        return marker
-
-    def position_marker(self, part: str, position) -> int:
-        """A position marker on ``part`` at ``position`` (as :meth:`rigid_marker`'s)."""
-        position, where = self._where(position)
-        if part in self.beams:
-            return self.beams[part].position_marker(position)
-        ref = self.ref[part]
-        local = np.asarray(position) - ref
-        marker = self.mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body_or_ground(part),
-                                                       localPosition=local))
-        if where is not None:
-            self.track("marker", marker, "localPosition",
-                       lambda s, _: np.asarray(where(s)) - ref)
-        return marker
 
     def _add_joint(self, j) -> int:
         joint = of("joints", j.name, lambda x: x)
@@ -334,8 +240,8 @@ class SuspensionModel:
 
     def _add_sensors(self) -> None:
         """Record the model's own outputs in C++ at each load step (no Python call per step):
-        spring forces, bushing deflections and loads, and the poses of the wheel part (always)
-        and of every other part (``ModelOptions.part_poses``)."""
+        spring forces and lengths, damper lengths, bushing deflections and loads, and the poses
+        of the wheel part (always) and of every other part (``ModelOptions.part_poses``)."""
         mbs = self.mbs
         ovt = exu.OutputVariableType
 
@@ -345,6 +251,9 @@ class SuspensionModel:
 
         for name, o in self.springs.items():
             self.sensors[f"spring:{name}"] = obj(o, ovt.ForceLocal)
+            self.sensors[f"spring_length:{name}"] = obj(o, ovt.Distance)
+        for name, o in self.dampers.items():
+            self.sensors[f"damper_length:{name}"] = obj(o, ovt.Distance)
         for name, e in self.bushings.items():
             for key, output in (("d", ovt.DisplacementLocal), ("r", ovt.Rotation),
                                 ("f", ovt.ForceLocal), ("t", ovt.TorqueLocal)):
@@ -359,6 +268,10 @@ class SuspensionModel:
         for name, number in recorded.items():
             self._add_pose_sensors(name, number)
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
+        #: the beam parts' node lines, their nodes' poses recorded with every part's
+        lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
+            if self.options.part_poses else {}
+        self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:
         """Record a body's rotation matrix and displacement at every step
@@ -368,78 +281,6 @@ class SuspensionModel:
             self.sensors[f"part:{name}:{key}"] = self.mbs.AddSensor(SensorBody(
                 bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
                 storeInternal=True, writeToFile=False))
-
-    # ------------------------------------------------------------------ attachments
-    def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
-                    frame=None, base: str | None = None, lock=None,
-                    item: tuple[str, str] | None = None) -> str:
-        """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
-        against ``base``, another part or a rig body) in the ``constrained`` directions (6
-        flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
-        frame; default the config frame), following an offset path given when solving;
-        inactive in a solve that gives it no path, unless ``lock`` (6 offsets) makes it one of
-        :attr:`locks`: active from the start, at ``lock`` unless a path is given. Its reaction
-        is recorded. ``item``: (name, kind) of the reported load it belongs to
-        (:mod:`elastokin.mbs.loads`; default the support's own name). Returns ``name``."""
-        if name in self.supports or name in self.loads:
-            raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
-        axes = np.eye(3) if frame is None else frame
-        m_ground = self.rigid_marker(self.suspension.ground if base is None else base,
-                                     point_mm, axes)
-        m_part = self.rigid_marker(part, point_mm, axes)
-        obj = self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m_ground, m_part], constrainedAxes=list(constrained),
-            activeConnector=lock is not None, name=name))
-        if lock is not None:
-            self.locks[name] = np.asarray(lock, float)
-        self.supports[name] = {"object": obj, "part": part, "marker": m_part}
-        if item is not None:
-            self.load_items[name] = item
-        self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
-            objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
-            storeInternal=True, writeToFile=False))
-        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: attaching '{name}'")
-        return name
-
-    def add_load(self, name: str, part: str, point_mm, kind: str = "force",
-                 marker_of: str | None = None, item: tuple[str, str] | None = None) -> str:
-        """A force (N) or torque (N*mm) on ``part`` at ``point_mm`` (config frame, design
-        position; ``kind`` "force" or "torque"), following a path given when solving (zero
-        without one). ``marker_of``: apply it at the marker of that support or load
-        instead of a new one. ``item``: as :meth:`add_support`'s. Returns ``name``."""
-        if name in self.supports or name in self.loads:
-            raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
-        if marker_of is not None:
-            marker = {**self.supports, **self.loads}[marker_of]["marker"]
-        else:
-            marker = self.rigid_marker(part, point_mm, np.eye(3))
-        kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
-        load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
-        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
-        if item is not None:
-            self.load_items[name] = item
-        return name
-
-    def add_point_sensor(self, name: str, part: str, point_mm) -> str:
-        """Record where ``point_mm`` (config frame, design position) of ``part`` is at every
-        step (``ModelState.points[name]``, mm). Returns ``name``."""
-        if f"point:{name}" in self.sensors:
-            raise ModelError(f"{self.suspension.source}: point sensor '{name}' exists already")
-        point, where = self._where(point_mm)
-        ref = self.ref[part]
-        local = np.asarray(point, float) - ref
-        self.point_sensors[name] = (part, local)
-        sensor = self.sensors[f"point:{name}"] = self.mbs.AddSensor(SensorBody(
-            bodyNumber=self.body[part], localPosition=local.tolist(),
-            outputVariableType=exu.OutputVariableType.Position, storeInternal=True,
-            writeToFile=False))
-        if where is not None:
-            def local_of(s, _):
-                return np.asarray(where(s), float) - ref
-
-            self.track("point", name, "localPosition", local_of)
-            self.track("sensor", sensor, "localPosition", lambda s, p: local_of(s, p).tolist())
-        return name
 
     def start_from(self, coordinates) -> None:
         """Make every later solve start from these coordinates (every body's displacement and

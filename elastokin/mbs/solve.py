@@ -253,7 +253,9 @@ def recorded_arrays(model: SuspensionModel, ts: np.ndarray
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
                      ) -> dict[str, np.ndarray]:
     """Sensor values (steps, k) with each bushing's deflection (mm and deg) and load in one
-    6-vector per step (bushings whose sensors were not read are left out)."""
+    6-vector per step (bushings whose sensors were not read are left out), and each beam
+    part's node positions (steps, m, 3) and rotations from their design frames (steps, m, 3,
+    3) in one array each (``beam:<part>:node_x``, ``beam:<part>:node_R``)."""
     for name in model.bushings:
         if f"bushing:{name}:d" not in data:
             continue
@@ -261,6 +263,14 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
             [data.pop(f"bushing:{name}:d"), data.pop(f"bushing:{name}:r") / DEG], axis=1)
         data[f"bushing:{name}:load"] = np.concatenate(
             [data.pop(f"bushing:{name}:f"), data.pop(f"bushing:{name}:t")], axis=1)
+    for part, line in model.node_lines.items():
+        if f"part:node:{line[0]}:R" not in data:
+            continue
+        design = np.array([model.beams[part].frames[n] for n in line])
+        R = np.stack([data.pop(f"part:node:{n}:R") for n in line], axis=1)
+        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
+        data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")
+                                                for n in line], axis=1)
     return data
 
 
@@ -273,6 +283,10 @@ def model_states(model: SuspensionModel, data: dict[str, np.ndarray], loads: lis
     springs = [(name, (-data[f"spring:{name}"][:, 0]).tolist()) for name in model.springs]
     scalars = [(f"stop:{name}", np.abs(data[f"stop:{name}"][:, 0]).tolist())
                for name in model.stops]
+    # spring and damper lengths (mm) between their points
+    scalars += [(f"{k}_length:{n}", data[f"{k}_length:{n}"][:, 0].tolist())
+                for k, items in (("spring", model.springs), ("damper", model.dampers))
+                for n in items]
     if model.anti_roll_bar is not None:
         scalars += [("arb:twist_deg", (data["arb:r"][:, 2] / DEG).tolist()),
                     ("arb:torque_Nmm", data["arb:t"][:, 2].tolist())]
@@ -284,6 +298,8 @@ def model_states(model: SuspensionModel, data: dict[str, np.ndarray], loads: lis
     displacement = [(p, data[f"part:{p}:disp"]) for p in model.pose_refs]
     supports = [(name, data[f"support:{name}"]) for name in model.supports]
     points = [(k.removeprefix("point:"), v) for k, v in data.items() if k.startswith("point:")]
+    nodes = [(part, data[f"beam:{part}:node_x"], data[f"beam:{part}:node_R"])
+             for part in model.node_lines if f"beam:{part}:node_x" in data]
     out = []
     for i in range(n):
         defl = {name: u[i] + model.initial_deflection[name] if own else u[i]
@@ -291,6 +307,8 @@ def model_states(model: SuspensionModel, data: dict[str, np.ndarray], loads: lis
         load = {name: f[i] if own else nan.copy() for name, _, f, own in bushings}
         poses = PartPoses({p: r[i] for p, r in rotation}, {p: d[i] for p, d in displacement},
                           model.pose_refs)
+        for part, x, R in nodes:  # combined_sensors: rotations from the design frames
+            poses.node_mm[part], poses.node_rotation[part] = x[i], R[i]
         out.append(ModelState(poses, {name: v[i] for name, v in springs}, defl, load,
                               {name: v[i] for name, v in supports},
                               {k: v[i] for k, v in applied.items()},
@@ -307,6 +325,9 @@ def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
     :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
     part (rotation (n, 3, 3), displacement (n, 3)))."""
     scalars = {f"stop:{n}": np.abs(data[f"stop:{n}"][:, 0]) for n in model.stops}
+    scalars.update({f"{k}_length:{n}": data[f"{k}_length:{n}"][:, 0]
+                    for k, items in (("spring", model.springs), ("damper", model.dampers))
+                    for n in items})
     if model.anti_roll_bar is not None:
         scalars["arb:twist_deg"] = data["arb:r"][:, 2] / DEG
         scalars["arb:torque_Nmm"] = data["arb:t"][:, 2]

@@ -368,7 +368,10 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         obj = mbs.GetObject(number)
         m0, m1 = obj["markerNumbers"]
         length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
-        data[key] = law(length, obj)[:, None]
+        if law is None:  # a spring's or damper's length (Exudyn's Distance)
+            data[key] = length[:, None]
+        else:
+            data[key] = law(length, obj)[:, None]
     rest = [k for k in model.sensors if k not in data and not k.startswith("load:")
             and (bushings or not k.startswith("bushing:"))]
     if rest:
@@ -387,8 +390,11 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
 def _line_forces(model: SuspensionModel):
     """(sensor key, object, force law of its length) of every coil spring and stop: Exudyn's
     ``ForceLocal`` of a spring-damper, ``k (L - L0)``, and a stop's user function
-    (:func:`~elastokin.mbs.axle_elements.stop_function`)."""
-    out = []
+    (:func:`~elastokin.mbs.axle_elements.stop_function`); and of the springs' and dampers'
+    length sensors (law None: the length itself)."""
+    out = [(f"{kind}_length:{name}", number, None)
+           for kind, items in (("spring", model.springs), ("damper", model.dampers))
+           for name, number in items.items() if f"{kind}_length:{name}" in model.sensors]
     for name, number in model.springs.items():
         out.append((f"spring:{name}", number,
                     lambda L, obj: obj["stiffness"] * (L - obj["referenceLength"])))

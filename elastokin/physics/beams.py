@@ -37,3 +37,60 @@ def section_offset_mm(frame, offset_yz_mm) -> np.ndarray:
     """A point given in a section's (y, z) axes as a vector of the config frame."""
     R = np.asarray(frame, float)
     return R[:, 1] * float(offset_yz_mm[0]) + R[:, 2] * float(offset_yz_mm[1])
+
+
+def stations_mm(nodes_mm, segments, elements_per_segment: int) -> np.ndarray:
+    """The element ends along consecutive ``segments`` (indices) of a node line: the first
+    segment's start, then ``elements_per_segment`` equal steps along each segment ((k, 3),
+    mm): where the beam's nodes are (:mod:`elastokin.mbs.beams`)."""
+    pts = np.asarray(nodes_mm, float)
+    segments = list(segments)
+    n = int(elements_per_segment)
+    out = [pts[segments[0]]]
+    for i in segments:
+        out += [pts[i] + (pts[i + 1] - pts[i]) * k / n for k in range(1, n + 1)]
+    return np.array(out)
+
+
+def node_line(nodes_mm, elements_per_segment: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every node of a beam's node line through its named ``nodes_mm`` (n, 3), each place
+    once (m = (n - 1) x elements_per_segment + 1): their positions (m, 3) mm at the design
+    position, and the segment each belongs to (m,) (the one it starts; the last node: the
+    last segment), whose section axes and shear centre it has."""
+    segments = len(nodes_mm) - 1
+    positions = stations_mm(nodes_mm, range(segments), elements_per_segment)
+    which = np.minimum(np.arange(len(positions)) // int(elements_per_segment), segments - 1)
+    return positions, which
+
+
+def mean_rotation(rotations: np.ndarray) -> np.ndarray:
+    """The rotation nearest to the mean of rotation matrices (..., k, 3, 3) in the Frobenius
+    norm (chordal L2 mean: the polar factor of their sum), (..., 3, 3)."""
+    u, _, vt = np.linalg.svd(np.sum(rotations, axis=-3))
+    d = np.sign(np.linalg.det(u @ vt))
+    u = u.copy()
+    u[..., :, 2] *= d[..., None]
+    return u @ vt
+
+
+def twist_deg(rotations: np.ndarray) -> np.ndarray:
+    """How far each of a beam's node rotations (..., k, 3, 3) is turned from their mean
+    (:func:`mean_rotation`): the angle (deg, (..., k)) of the relative rotation: the beam's
+    twist and bending, its rigid motion taken out."""
+    rel = np.swapaxes(mean_rotation(rotations), -1, -2)[..., None, :, :] @ rotations
+    c = np.clip((np.trace(rel, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    return np.degrees(np.arccos(c))
+
+
+def magnified_rotations(rotations: np.ndarray, factor: float) -> np.ndarray:
+    """A beam's node rotations (..., k, 3, 3) with their turn from the mean rotation
+    (:func:`twist_deg`) multiplied by ``factor``: R_mean exp(factor log(R_mean^T R)), the
+    deformation drawn magnified, the rigid motion as it is."""
+    from scipy.spatial.transform import Rotation
+
+    R = np.asarray(rotations, float)
+    mean = mean_rotation(R)[..., None, :, :]
+    rel = np.swapaxes(mean, -1, -2) @ R
+    shape = rel.shape[:-2]
+    vec = Rotation.from_matrix(rel.reshape(-1, 3, 3)).as_rotvec() * float(factor)
+    return mean @ Rotation.from_rotvec(vec).as_matrix().reshape(*shape, 3, 3)

@@ -99,6 +99,11 @@ class DirectionLaw:
         """The inverse law, load -> deflection (made once per law)."""
         return DirectionLaw(self.load, self.deflection)
 
+    def __getstate__(self) -> dict:
+        """The law's data without its cached inverse: a law pickles the same before and after
+        it was inverted (a suspension is not changed by a run: tests/test_contract.py)."""
+        return {k: v for k, v in self.__dict__.items() if k != "inverse"}
+
     def scaled(self, factor: float) -> DirectionLaw:
         """The same curve with every load multiplied by ``factor`` (> 0)."""
         if not factor > 0:

@@ -11,11 +11,16 @@ import numpy as np
 @dataclass
 class PartPoses:
     """Rigid-body poses of the moving parts at one step: rotation (3, 3) and the displacement
-    (mm) of each part's reference point ``reference_mm`` (config frame, design position)."""
+    (mm) of each part's reference point ``reference_mm`` (config frame, design position); of
+    a flexible (beam) part, its node line's nodes (:func:`elastokin.physics.beams.node_line`,
+    in order): their positions ``node_mm`` (k, 3) and their rotations from the design position
+    ``node_rotation`` (k, 3, 3)."""
 
     rotation: dict[str, np.ndarray] = field(default_factory=dict)
     displacement_mm: dict[str, np.ndarray] = field(default_factory=dict)
     reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    node_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    node_rotation: dict[str, np.ndarray] = field(default_factory=dict)
 
     def moved(self, part: str, points_mm) -> np.ndarray:
         """Where points of ``part`` given at the design position (mm, (..., 3)) are now; the
@@ -79,19 +84,25 @@ class LoadTable:
 class PoseSeries:
     """The poses of the moving parts at every step of a sweep (config frame): ``rotation``
     (steps, 3, 3) from the design position and ``displacement_mm`` (steps, 3) of each part's
-    reference point ``reference_mm`` (3,) (design position), as :class:`PartPoses` per step."""
+    reference point ``reference_mm`` (3,) (design position); of a flexible part, ``node_mm``
+    (steps, k, 3) and ``node_rotation`` (steps, k, 3, 3); as :class:`PartPoses` per step."""
 
     rotation: dict[str, np.ndarray] = field(default_factory=dict)
     displacement_mm: dict[str, np.ndarray] = field(default_factory=dict)
     reference_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    node_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    node_rotation: dict[str, np.ndarray] = field(default_factory=dict)
 
     @classmethod
     def stack(cls, poses: list[PartPoses]) -> PoseSeries:
         """The series of one :class:`PartPoses` per step (the first step's parts)."""
         names = list(poses[0].rotation) if poses else []
+        beams = list(poses[0].node_mm) if poses else []
         return cls({n: np.array([p.rotation[n] for p in poses]) for n in names},
                    {n: np.array([p.displacement_mm[n] for p in poses]) for n in names},
-                   {n: np.asarray(poses[0].reference_mm[n], float) for n in names})
+                   {n: np.asarray(poses[0].reference_mm[n], float) for n in names},
+                   {n: np.array([p.node_mm[n] for p in poses]) for n in beams},
+                   {n: np.array([p.node_rotation[n] for p in poses]) for n in beams})
 
     @property
     def steps(self) -> int:
@@ -101,7 +112,9 @@ class PoseSeries:
         """The poses at one step."""
         return PartPoses({n: r[step] for n, r in self.rotation.items()},
                          {n: d[step] for n, d in self.displacement_mm.items()},
-                         dict(self.reference_mm))
+                         dict(self.reference_mm),
+                         {n: x[step] for n, x in self.node_mm.items()},
+                         {n: r[step] for n, r in self.node_rotation.items()})
 
     def transforms(self, part: str, steps) -> tuple[np.ndarray, np.ndarray]:
         """(R (k, 3, 3), t (k, 3)) of ``part`` at ``steps`` (indices) with x_now = R x + t for
@@ -148,7 +161,8 @@ class ModelState:
     applied: dict[str, np.ndarray] = field(default_factory=dict)
     points: dict[str, np.ndarray] = field(default_factory=dict)
     sensitivity: StateSensitivity | None = None
-    #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``
+    #: scalar outputs by name: ``stop:<name>`` force (N), ``arb:twist_deg``, ``arb:torque_Nmm``,
+    #: ``spring_length:<name>``, ``damper_length:<name>`` (mm)
     scalars: dict[str, float] = field(default_factory=dict)
     #: the load of every element (None: not recorded, ``ModelOptions.record_loads``)
     loads: LoadTable | None = None

@@ -102,16 +102,22 @@ def _null_spaces(A: np.ndarray):
     ``(step indices, basis (s, N, nullity))`` per group of steps with the same nullity.
 
     Fast path: Householder QR of ``A^T`` (full row rank: the null space is the trailing
-    ``N - m`` columns of Q); steps whose rows are (nearly) dependent fall back to the SVD."""
+    ``N - m`` columns of Q). Steps whose rows are dependent (a redundant constraint, e.g. a
+    heave spring locked with the corner springs that lock its ends already) take it again
+    without the rows that depend on the others at the first such step, where the dropped rows
+    still vanish on the basis found; the rest falls back to the SVD."""
     S, m, N = A.shape
     todo = np.arange(S)
-    if m < N:
-        Q, R = np.linalg.qr(np.swapaxes(A, 1, 2), mode="complete")
-        diag = np.abs(np.diagonal(R[:, :m, :m], axis1=1, axis2=2))
-        full = diag.min(axis=1) > 1e-6 * diag.max(axis=1)
-        if np.any(full):
-            yield np.flatnonzero(full), Q[full][:, :, m:]
-        todo = np.flatnonzero(~full)
+    for rows in (np.arange(m), None):
+        if todo.size == 0:
+            return
+        if rows is None:  # drop the rows dependent at the first step left, and try again
+            rows = _independent_rows(A[todo[0]])
+            if rows.size == m:
+                break
+        found, todo = _qr_null_spaces(A, todo, rows)
+        if found is not None:
+            yield found
     if todo.size:
         B = A[todo]
         if m < N:  # square it up: zero rows change no null space
@@ -121,6 +127,42 @@ def _null_spaces(A: np.ndarray):
         for r in np.unique(rank):
             sel = rank == r
             yield todo[sel], np.swapaxes(Vt[sel][:, r:, :], 1, 2)
+
+
+def _qr_null_spaces(A: np.ndarray, todo: np.ndarray, rows: np.ndarray):
+    """The QR fast path of :func:`_null_spaces` on the steps ``todo`` with the constraint
+    ``rows`` of ``A``: ((steps, basis) or None, the steps it did not solve). A step is solved
+    when those rows have full rank and every other row vanishes on the basis."""
+    m, N = rows.size, A.shape[2]
+    if m >= N:
+        return None, todo
+    Q, R = np.linalg.qr(np.swapaxes(A[todo][:, rows, :], 1, 2), mode="complete")
+    diag = np.abs(np.diagonal(R[:, :m, :m], axis1=1, axis2=2))
+    full = diag.min(axis=1) > 1e-6 * diag.max(axis=1)
+    basis = Q[:, :, m:]
+    others = np.setdiff1d(np.arange(A.shape[1]), rows)
+    if others.size:
+        rest = A[todo][:, others, :]
+        scale = np.max(np.abs(rest), axis=(1, 2), keepdims=True) + 1e-300
+        full &= np.max(np.abs(rest @ basis / scale), axis=(1, 2)) < RANK_TOLERANCE ** 0.5
+    found = (todo[full], basis[full]) if np.any(full) else None
+    return found, todo[~full]
+
+
+def _independent_rows(M: np.ndarray) -> np.ndarray:
+    """Indices of the rows of ``M`` (m, N), each kept when it is independent of those kept
+    before it (Gram-Schmidt, relative tolerance ``RANK_TOLERANCE ** 0.5``)."""
+    basis: list[np.ndarray] = []
+    keep = []
+    for i, row in enumerate(M):
+        r = row.copy()
+        for b in basis:
+            r -= (r @ b) * b
+        norm = np.linalg.norm(r)
+        if norm > RANK_TOLERANCE ** 0.5 * max(np.linalg.norm(row), 1e-300):
+            basis.append(r / norm)
+            keep.append(i)
+    return np.asarray(keep, int)
 
 
 def _idle_locks(A: np.ndarray, springs: np.ndarray, k: int) -> list[tuple[np.ndarray,

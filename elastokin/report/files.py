@@ -26,7 +26,7 @@ from elastokin.rig.channels import sign_conventions
 from elastokin.rig.drives import vehicle_load_table
 from elastokin.rig.loads import load_summary
 from elastokin.rig.sweeps import Sweep
-from elastokin.version import __version__, exudyn_version
+from elastokin.version import __version__, code_sha256, exudyn_version
 
 if TYPE_CHECKING:
     from elastokin.studies.kc_job import KCRun
@@ -37,6 +37,7 @@ def config_provenance(s) -> dict:
     section) and its SHA-256, units: carried by every result file."""
     return {
         "elastokin_version": __version__,
+        "elastokin_code_sha256": code_sha256(),  # tells apart code of the same version
         "exudyn_version": exudyn_version(),
         "config_file": str(s.source),
         "config_sha256": s.config_sha256,

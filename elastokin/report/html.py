@@ -206,6 +206,11 @@ def characteristics_section(summary: dict) -> list[str]:
     rows = [[f'<span title="{esc(c.definition)}">{esc(c.label)} [{c.unit}]</span>',
              *(num(models[m].get(c.name), c.fmt) for m in models)]
             for c in CHARACTERISTIC_LIST]
+    ratios = dict.fromkeys(k for m in models.values() for k in m.get("motion_ratios") or {})
+    rows += [[f'<span title="{esc(channel(k).sign)}; at the static state">'
+              f"{esc(channel(k).label.split(' [')[0])} [-]</span>",
+              *(num((models[m].get("motion_ratios") or {}).get(k), ".4f") for m in models)]
+             for k in ratios]
     return [note("Gradients are least-squares slopes over the measured rows of each load case "
                  '(definitions in <a href="#signs">sign conventions</a>); steering-axis '
                  "figures at the static state."), table(["characteristic", *models], rows)]
@@ -239,9 +244,15 @@ def view_section(fragment: str, factor: float | None) -> list[str]:
                  "coloured by their deflection (mm, scale at the bottom left) with their "
                  "frames (x red, y green, z blue); stops turn red in contact; the steering "
                  "axes are dashed, the front-view instant centres (+) and the roll centre "
-                 "(&#9670;) are joined to the contact patches. The tyre's width is drawn 0.7 "
-                 "times its loaded radius (a config gives none). Works offline (plotly.js is "
-                 "in the page)." + ident), fragment]
+                 "(&#9670;) are joined to the contact patches. The arrows are the load each "
+                 "body pickup receives (from the pickup, along the force on the body) and the "
+                 "rig's load on each tyre (from the contact patch), at the scale the legend "
+                 "states: the values of loads.csv at that step; \"worst case of\" goes to a "
+                 "pickup's largest load. A flexible beam is drawn through its nodes as solved, "
+                 "with a band from its node line to its shear centre that turns with its "
+                 "section (its twist magnified as the legend states). The tyre's width is "
+                 "drawn 0.7 times its loaded radius (a config gives none). Works offline "
+                 "(plotly.js is in the page; docs/view.md)." + ident), fragment]
 
 
 def errors_section(summary: dict) -> list[str]:

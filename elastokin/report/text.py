@@ -27,8 +27,11 @@ def kc_table(summary: dict, out_dir: Path) -> str:
                  f"(force residual on the wheel assembly {residual:.1e} N)")
     w = max([10, *(len(n) + 2 for n in st["bushings"])])
     refs = any(b.get("reference") for b in st["bushings"].values())
-    lines.append(f"  {'bushing':<{w}}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
-                 + (f"   reference {st['reference_source']}" if refs else ""))
+    if st["bushings"]:
+        lines.append(f"  {'bushing':<{w}}{'radial mm':>11}{'axial mm':>10}{'torsion deg':>13}"
+                     + (f"   reference {st['reference_source']}" if refs else ""))
+    else:
+        lines.append("  no bushing (every joint ideal)")
     for name, b in st["bushings"].items():
         ref = b.get("reference", {})
         ref_txt = ", ".join(f"{k} {v:g}" for k, v in ref.items())

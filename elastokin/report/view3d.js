@@ -40,6 +40,14 @@
     return m && m.data[this.caseName];
   };
 
+  /* a beam part's data in the current case of a model, with its number of frames */
+  View.prototype.beamData = function (model, part) {
+    var c = this.caseData(model), b = c && c.beam && c.beam[part];
+    if (!b) { return null; }
+    b.count = c.steps.length;
+    return b;
+  };
+
   /* the transforms of every part of a model at the current frame: [R, ref, d] */
   View.prototype.poses = function (model) {
     var m = this.V.models[model], c = this.caseData(model), out = [];
@@ -116,6 +124,59 @@
     return [xs, ys, zs];
   }
 
+  /* a beam part's nodes (what: "line"), its band's edge ("edge") or both (the band's mesh)
+     at frame f */
+  function beam(what, b, f) {
+    var xs = [], ys = [], zs = [];
+    if (!b) { return [xs, ys, zs]; }
+    var m = b.line.length / 3 / Math.max(1, b.count);
+    (what === "band" ? ["line", "edge"] : [what]).forEach(function (key) {
+      var a = b[key], o = f * m * 3;
+      for (var j = 0; j < m; j++) { xs.push(a[o + 3 * j]); ys.push(a[o + 3 * j + 1]); zs.push(a[o + 3 * j + 2]); }
+    });
+    return [xs, ys, zs];
+  }
+
+  /* arrows from points along forces at frame f (mm per N: scale), with a four-barbed head;
+     and each vertex's hover text */
+  function arrows(recipe, c, points, scale, f) {
+    var xs = [], ys = [], zs = [], text = [], loads = c.loads || {};
+    recipe.names.forEach(function (name) {
+      var F, p;
+      if (recipe.what === "pickup") {
+        F = loads.pickup && loads.pickup[name]; p = points[name];
+      } else {
+        var e = loads.patch && loads.patch[name];
+        F = e && e.f; p = e && e.at.slice(3 * f, 3 * f + 3);
+      }
+      if (!F || !p) { return; }
+      var v = [F[3 * f], F[3 * f + 1], F[3 * f + 2]];
+      var n = Math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      var L = n * scale, tip = [p[0] + v[0] * scale, p[1] + v[1] * scale, p[2] + v[2] * scale];
+      var label = name + ": " + (recipe.what === "pickup" ? "the body receives " : "the rig applies ") +
+        "[" + v.map(function (x) { return x.toFixed(0); }).join(", ") + "] N, " + (n / 1000).toFixed(2) + " kN";
+      function put(q) { xs.push(q[0]); ys.push(q[1]); zs.push(q[2]); text.push(label); }
+      function gap() { xs.push(null); ys.push(null); zs.push(null); text.push(""); }
+      put(p); put(tip); gap();
+      if (L < 1e-6) { return; }
+      var u = [v[0] / n, v[1] / n, v[2] / n], h = Math.min(0.25 * L, 30);
+      var a = Math.abs(u[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];
+      var e1 = [u[1] * a[2] - u[2] * a[1], u[2] * a[0] - u[0] * a[2], u[0] * a[1] - u[1] * a[0]];
+      var k1 = Math.sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+      e1 = [e1[0] / k1, e1[1] / k1, e1[2] / k1];
+      var e2 = [u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2], u[0] * e1[1] - u[1] * e1[0]];
+      [e1, e2].forEach(function (e) {
+        [-1, 1].forEach(function (sg) {
+          put(tip);
+          put([tip[0] - h * u[0] + sg * 0.45 * h * e[0], tip[1] - h * u[1] + sg * 0.45 * h * e[1],
+               tip[2] - h * u[2] + sg * 0.45 * h * e[2]]);
+          gap();
+        });
+      });
+    });
+    return [xs, ys, zs, text];
+  }
+
   /* the traces at the current frame (the figure's data, changed in place) */
   View.prototype.update = function () {
     var self = this, V = this.V, data = this.figure.data, T = {}, cmax = V.bushing_cmax;
@@ -132,8 +193,14 @@
       if (!self.caseData(recipe.model)) { t.x = []; t.y = []; t.z = []; return; }
       if (!(recipe.model in T)) { T[recipe.model] = self.poses(recipe.model); }
       var P = T[recipe.model], mc = self.caseData(recipe.model), xyz = null;
+      var mf = Math.min(f, mc.steps.length - 1);
       if (recipe.kind === "rigid") { xyz = rigid(self.base[k], recipe.carriers, P); }
       else if (recipe.kind === "helix") { xyz = helix(recipe.ends, recipe.turns, P); }
+      else if (recipe.kind === "beam") { xyz = beam(recipe.what, self.beamData(recipe.model, recipe.part), mf); }
+      else if (recipe.kind === "arrows") {
+        xyz = arrows(recipe, mc, V.models[recipe.model].pickups, V.load_mm_per_N, mf);
+        t.text = xyz[3];
+      }
       else { xyz = figure(recipe.kind, mc, f); }
       t.x = xyz[0]; t.y = xyz[1]; t.z = xyz[2];
       if (recipe.bushings) {
@@ -178,6 +245,12 @@
       if (most === null || c.bushing[b][f] > c.bushing[most][f]) { most = b; }
     });
     if (most !== null) { parts.push("largest bushing deflection: " + most + " " + c.bushing[most][f].toFixed(2) + " mm"); }
+    var pick = (c.loads || {}).pickup || {}, top = null, topN = -1;
+    Object.keys(pick).forEach(function (p) {
+      var v = pick[p], n = Math.sqrt(v[3 * f] * v[3 * f] + v[3 * f + 1] * v[3 * f + 1] + v[3 * f + 2] * v[3 * f + 2]);
+      if (n > topN) { top = p; topN = n; }
+    });
+    if (top !== null) { parts.push("largest body pickup load: " + top + " " + (topN / 1000).toFixed(2) + " kN"); }
     this.el("info").textContent = parts.join(" \u00b7 ");
   };
 
@@ -206,6 +279,37 @@
     self.setCase(this.caseName, first);
   };
 
+  /* the picker of each body pickup's worst case (the model's largest force first) */
+  View.prototype.fillWorst = function () {
+    var sel = this.el("worst"), worst = this.V.models[this.model].worst || [];
+    if (!sel) { return; }
+    sel.innerHTML = "";
+    var o = document.createElement("option");
+    o.value = ""; o.textContent = worst.length ? "(a body pickup)" : "(no loads recorded)";
+    sel.appendChild(o);
+    worst.forEach(function (w, i) {
+      var e = document.createElement("option");
+      e.value = String(i);
+      e.textContent = w.pickup + ": " + (w.force_N / 1000).toFixed(2) + " kN, " +
+        w.case.replace(/_/g, " ") + " step " + w.step;
+      sel.appendChild(e);
+    });
+    sel.disabled = !worst.length;
+  };
+
+  /* go to a pickup's worst case: its load case and frame, the pickup loads shown */
+  View.prototype.showWorst = function (i) {
+    var w = (this.V.models[this.model].worst || [])[i], self = this;
+    if (!w) { return; }
+    this.el("case").value = w.case;
+    this.caseName = w.case;
+    this.frame = w.frame;
+    this.V.recipes.forEach(function (r, k) {
+      if (r && r.kind === "arrows" && r.what === "pickup" && r.model === self.model) { self.figure.data[k].visible = true; }
+    });
+    this.setCase(w.case);
+  };
+
   View.prototype.play = function () {
     var self = this, button = this.el("play");
     if (this.timer) { clearInterval(this.timer); this.timer = null; button.textContent = "\u25b6 play"; return; }
@@ -223,9 +327,14 @@
     this.V.order.forEach(function (m) {
       var o = document.createElement("option"); o.value = m; o.textContent = m; models.appendChild(o);
     });
-    models.addEventListener("change", function () { self.model = models.value; self.fillCases(); });
-    this.el("case").addEventListener("change", function () { self.setCase(self.el("case").value); });
-    this.el("slider").addEventListener("input", function () { self.frame = Number(self.el("slider").value); self.draw(); });
+    models.addEventListener("change", function () { self.model = models.value; self.fillWorst(); self.fillCases(); });
+    if (this.el("worst")) {
+      this.el("worst").addEventListener("change", function () { if (self.el("worst").value !== "") { self.showWorst(Number(self.el("worst").value)); } });
+    }
+    this.fillWorst();
+    function picked() { if (self.el("worst")) { self.el("worst").value = ""; } }
+    this.el("case").addEventListener("change", function () { picked(); self.setCase(self.el("case").value); });
+    this.el("slider").addEventListener("input", function () { picked(); self.frame = Number(self.el("slider").value); self.draw(); });
     this.el("play").addEventListener("click", function () { self.play(); });
     this.fillCases(true);  /* the first frame, drawn once by newPlot */
     var fig = this.figure;

@@ -1,4 +1,4 @@
-"""The interactive 3D view of a suspension (plotly, its JavaScript embedded: works offline):
+"""The interactive 3D view of a suspension (plotly.js's gl3d bundle embedded: works offline):
 every model's drawing (:mod:`elastokin.report.view3d_traces`), a model and load-case picker,
 a slider and a play button through the frames of the load case, each model's outline to
 overlay on another, and with an identification the CMM marks and the joint shifts, magnified.
@@ -19,6 +19,15 @@ from pathlib import Path
 
 import numpy as np
 
+from elastokin.report.view3d_beams import beam_payload, beam_traces, twist_factor
+from elastokin.report.view3d_loads import (
+    arrow_scale,
+    arrow_tips_mm,
+    load_traces,
+    loads_payload,
+    pickup_points,
+    worst_cases,
+)
 from elastokin.report.view3d_traces import (
     Traces,
     connection_traces,
@@ -36,6 +45,10 @@ MODEL_COLOURS = {"initial": "#1f77b4", "identified": "#d62728", "identified_stif
                  "initial_kinematic": "#6baed6", "identified_kinematic": "#fc9272",
                  "design": "#1f77b4"}
 PLOT_HEIGHT_PX = 680
+#: plotly.js's gl3d partial bundle, in elastokin/report/vendor (:func:`plotly_js`)
+PLOTLY_BUNDLE = "plotly-gl3d.min.js"
+#: the legend's top (fraction of the plot's height): below plotly's mode bar
+LEGEND_TOP = 0.93
 #: room around the parts in the view (mm)
 MARGIN_MM = 120.0
 DESIGN_NOTE = "the hardpoints as given (nothing solved); bushings at their initial deflection"
@@ -69,7 +82,7 @@ def _references(scene: Scene) -> np.ndarray:
                      for p in scene.parts])
 
 
-def case_payload(scene: Scene, f: SceneFrames, ref: np.ndarray) -> dict:
+def case_payload(scene: Scene, f: SceneFrames, ref: np.ndarray, twist: float = 1.0) -> dict:
     """One model's frames of one load case as the page carries them (module docstring)."""
     from scipy.spatial.transform import Rotation
 
@@ -93,7 +106,8 @@ def case_payload(scene: Scene, f: SceneFrames, ref: np.ndarray) -> dict:
            "axis": {s: _flat(v, 1) for s, v in f.steering_axis_mm.items()},
            "ic": {s: _flat(v, 1) for s, v in f.instant_centre_mm.items()},
            "patch": {s: _flat(v, 1) for s, v in f.contact_mm.items()},
-           "rc": None if f.roll_centre_mm is None else _flat(f.roll_centre_mm, 1)}
+           "rc": None if f.roll_centre_mm is None else _flat(f.roll_centre_mm, 1),
+           "beam": beam_payload(scene, f, twist), "loads": loads_payload(f)}
     return out
 
 
@@ -155,9 +169,13 @@ def _camera_buttons(scene: Scene) -> list[dict]:
 def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
     """(the plotly figure as a dict, the page's data for ``view3d.js``)."""
     t = Traces()
-    payload: dict = {"order": [m.label for m in models], "models": {}, "recipes": [],
-                     "ident": [], "design_note": DESIGN_NOTE}
+    every = [f for m in models for f in m.frames]
     first = models[0].scene
+    lo, hi = first.extent_mm()
+    twist, scale = twist_factor(every), arrow_scale(every, float(np.max(hi - lo)))
+    payload: dict = {"order": [m.label for m in models], "models": {}, "recipes": [],
+                     "ident": [], "design_note": DESIGN_NOTE, "twist_factor": twist,
+                     "load_mm_per_N": scale / 1e3}
     static_traces(t, first, "static")
     cmax = 0.1
     for m in models:
@@ -165,11 +183,16 @@ def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
         group = f"model:{m.label}"
         for make in (part_traces, connection_traces, wheel_traces, kinematic_traces):
             make(t, sc, m.label, group)
+        beam_traces(t, sc, m.label, group, twist)
+        pickups = pickup_points(m.frames)
+        load_traces(t, m.label, group, scale, list(pickups),
+                    list(dict.fromkeys(n for f in m.frames for n in f.patch_load_N)))
         ref = _references(sc)
         payload["models"][m.label] = {
             "parts": list(sc.part_names), "ref": ref.round(3).tolist(),
-            "cases": [f.load_case for f in m.frames],
-            "data": {f.load_case: case_payload(sc, f, ref) for f in m.frames}}
+            "cases": [f.load_case for f in m.frames], "pickups": pickups,
+            "worst": worst_cases(m.frames),
+            "data": {f.load_case: case_payload(sc, f, ref, twist) for f in m.frames}}
         cmax = max([cmax] + [float(np.nanmax(v)) for f in m.frames
                              for v in f.bushing_mm.values() if np.isfinite(v).any()])
     if len(models) > 1:
@@ -182,7 +205,10 @@ def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
     for trace, recipe in zip(t.traces, t.recipes):
         if recipe is not None and not recipe.get("ghost") and recipe["model"] != models[0].label:
             trace["visible"] = False
-    lo, hi = first.extent_mm()
+    tips = arrow_tips_mm(every, scale / 1e3)
+    tips = tips[np.all(np.isfinite(tips), axis=1)]
+    if len(tips):  # every arrow inside the box
+        lo, hi = np.minimum(lo, tips.min(axis=0)), np.maximum(hi, tips.max(axis=0))
     lo, hi = lo - MARGIN_MM, hi + MARGIN_MM
     axis = {"showbackground": True, "backgroundcolor": "#f7f7f7", "gridcolor": "#dddddd"}
     names = first.frame_text.removeprefix("config frame: ").split(", ")
@@ -196,7 +222,8 @@ def build_view(models: list[ModelView], overlay=None) -> tuple[dict, dict]:
               "uirevision": "keep", "height": PLOT_HEIGHT_PX,
               "margin": {"l": 0, "r": 0, "t": 10, "b": 0},
               "legend": {"itemsizing": "constant", "groupclick": "togglegroup",
-                         "font": {"size": 11}, "x": 0.81, "xanchor": "left", "y": 1.0},
+                         "font": {"size": 11}, "x": 0.81, "xanchor": "left",
+                         "y": LEGEND_TOP, "yanchor": "top"},
               "updatemenus": [{"type": "buttons", "direction": "right", "x": 0.0, "y": 1.0,
                                "xanchor": "left", "yanchor": "top", "pad": {"l": 4, "t": 4},
                                "buttons": _camera_buttons(first)}]}
@@ -213,26 +240,33 @@ def _json_script(element_id: str, value) -> str:
     return f'<script type="application/json" id="{element_id}">{text}</script>'
 
 
+def plotly_js() -> str:
+    """plotly.js as the view embeds it: the official gl3d partial bundle (npm
+    ``plotly.js-gl3d-dist-min``, MIT), shipped in ``elastokin/report/vendor/`` (its version
+    and checksum in ``plotly-gl3d.json``; ``scripts/vendor_plotly.py`` updates it)."""
+    return resources.files("elastokin.report").joinpath(
+        "vendor", PLOTLY_BUNDLE).read_text("utf-8")
+
+
 def view_fragment(models: list[ModelView], overlay=None, lazy: bool = False,
                   prefix: str = "ekv") -> str:
     """The view as an HTML fragment: controls, the frame's description, the plot, plotly.js
     (embedded), the figure and the data, and the script that draws the first frame (one
     plotly.newPlot) and moves it. ``lazy``: plotly.js is run and the view drawn only when the
     plot comes near the window (a report opens without waiting for them)."""
-    from plotly.offline import get_plotlyjs
-
     figure, payload = build_view(models, overlay)  # tests validate it with plotly
     figure["config"] = {"displaylogo": False, "responsive": True,
                         "toImageButtonOptions": {"format": "png", "scale": 2}}
     script = resources.files("elastokin.report").joinpath("view3d.js").read_text("utf-8")
     kind = f' type="text/plain" id="{prefix}-plotlyjs"' if lazy else ""
-    library = f"<script{kind}>{get_plotlyjs()}</script>"
+    library = f"<script{kind}>{plotly_js()}</script>"
     start = "elastokinLazyView" if lazy else "elastokinView"
     controls = (f'<div class="ekv-controls"><label>model <select id="{prefix}-model">'
                 f'</select></label><label>load case <select id="{prefix}-case"></select>'
                 f'</label><button type="button" id="{prefix}-play">\u25b6 play</button>'
                 f'<input type="range" id="{prefix}-slider" min="0" max="0" value="0" '
-                f'aria-label="frame"></div>')
+                f'aria-label="frame"><label>worst case of <select id="{prefix}-worst">'
+                f'</select></label></div>')
     return (f"<style>{_CSS}</style>{controls}"
             f'<div class="ekv-info" id="{prefix}-info"></div>'
             f'<div id="{prefix}-plot" class="ekv-plot" style="height:{PLOT_HEIGHT_PX}px"></div>'

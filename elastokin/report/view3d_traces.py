@@ -17,7 +17,8 @@ JOINT_SYMBOLS = {"spherical": "circle", "revolute": "diamond", "cylindrical": "s
 #: the marker of a joint kind not listed above
 OTHER_JOINT_SYMBOL = "circle-open"
 #: the scene's items that are not joints
-ITEM_KINDS = ("bushing", "link", "spring", "bump stop", "rebound stop", "anti-roll bar")
+ITEM_KINDS = ("bushing", "link", "spring", "damper", "bump stop", "rebound stop",
+              "anti-roll bar")
 #: joint kinds drawn with their axis (the joint frame's z)
 AXIS_KINDS = ("revolute", "cylindrical", "translational", "rack", "universal",
               "anti-roll bar")
@@ -77,8 +78,9 @@ def part_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
     """Each part's sticks and points (its hover names the points) and its hull: one trace
     of each for a part and its copy on an axle's other side (one colour, one legend entry)."""
     families: dict[str, list] = {}
+    beams = {b.part for b in scene.beams}  # drawn through their nodes (view3d_beams)
     for p in scene.parts:
-        if len(p.points_mm):
+        if len(p.points_mm) and p.name not in beams:
             families.setdefault(p.name.removesuffix(scene_suffix(scene, p.name)), []).append(p)
     out = []
     for base, parts in families.items():
@@ -134,7 +136,7 @@ def _item_points(t: Traces, scene: Scene, model: str, items: list[SceneItem], na
 
 def connection_traces(t: Traces, scene: Scene, model: str, group: str) -> list[int]:
     """Joints by kind (markers), joint axes, bushings (coloured by deflection) with their
-    frames, links, springs, stops."""
+    frames, links, dampers (a thick line under the coil of a coil-over), springs, stops."""
     out = []
     joints = [i for i in scene.items if i.kind not in ITEM_KINDS]
     for kind in dict.fromkeys(i.kind for i in joints):
@@ -154,6 +156,7 @@ def connection_traces(t: Traces, scene: Scene, model: str, group: str) -> list[i
                          {"kind": "rigid", "model": model, "carriers": carriers}))
     out += bushing_traces(t, scene, model, group)
     for kind, style in (("link", {"color": "#333", "width": 6}),
+                        ("damper", {"color": "#8b0000", "width": 12}),
                         ("bump stop", {"width": 10}), ("rebound stop", {"width": 10})):
         mine = [i for i in scene.items if i.kind == kind]
         if not mine:

@@ -14,8 +14,9 @@ test channel converts (``lateral``: times +1 on a left wheel, -1 on a right one;
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
+
+from elastokin.rig.item_channels import LOAD_FRAMES, LOAD_SIGN, item_channel_fields
 
 #: the quantity of each unit (K&C test files accept other units of the same quantity)
 QUANTITY = {"mm": "length", "deg": "angle", "N": "force", "N*mm": "torque", "-": "fraction"}
@@ -180,71 +181,14 @@ FITTED_CHANNELS = tuple(c.name for c in CHANNEL_LIST if c.fitted)
 #: channels by K&C test-file name
 TEST_CHANNELS: dict[str, Channel] = {c.test: c for c in CHANNEL_LIST if c.test}
 
-#: loads.csv: force x y z (N), moment x y z (N*mm) in each frame (docs/characteristics.md)
-LOAD_COMPONENTS = ("fx", "fy", "fz", "mx", "my", "mz")
-LOAD_FRAMES = {"body": "the ground part's (config) frame", "local": "the element's own, fixed "
-               "to its first part: a bushing's (z axial), a joint's (z its axis; a ball joint: "
-               "the part's axes), the steering gear's (z along the rack); links, springs, "
-               "stops: z from its first part's point to the second's (fz > 0 in tension)"}
-LOAD_SIGN = ("force or moment the element applies to its first part (a connection's "
-             "parts[0]; a contact patch: the wheel's part) about its point on it")
-
-_LOAD = re.compile(r"(.+)_([fm])([xyz])_(body|local)_(N|Nmm)")
-_SPRING = re.compile(r"spring_(.+)_force_N")
-_STOP = re.compile(r"stop_(.+)_force_N")
-_BUSHING = re.compile(r"bushing_(.+)_(r?)([xyz])_(mm|deg)")
-
-
 def channel(name: str) -> Channel | None:
-    """The channel of a kc.csv column, spring and bushing columns included (None when the
-    column is not elastokin's)."""
+    """The channel of a kc.csv column, the columns named after an item (a spring, damper,
+    stop, bushing, an element's load: :mod:`elastokin.rig.item_channels`) included (None when
+    the column is not elastokin's)."""
     if name in CHANNELS:
         return CHANNELS[name]
-    m = _SPRING.fullmatch(name)
-    if m:
-        return Channel(name, "N", "coil spring force, positive in compression",
-                       f"spring {m.group(1)} force [N] (+ compression)",
-                       adams=f"{m.group(1)}_spring_force")
-    m = _STOP.fullmatch(name)
-    if m:
-        return Channel(name, "N", "bump or rebound stop force, + pushing its points apart "
-                       "(bump) or together (rebound); 0 out of contact",
-                       f"stop {m.group(1)} force [N]", adams=f"{m.group(1)}_force")
-    m = _LOAD.fullmatch(name)
-    if m:
-        unit, what = ("N", "force") if m.group(2) == "f" else ("N*mm", "moment")
-        return Channel(name, unit, f"{LOAD_SIGN}; {m.group(4)}: {LOAD_FRAMES[m.group(4)]}",
-                       f"{m.group(1)} {what} {m.group(3)} [{unit}] ({m.group(4)} frame)")
-    m = _BUSHING.fullmatch(name)
-    if m:
-        kind = "rot" if m.group(2) else "disp"
-        return Channel(name, m.group(4), "deflection of the part-2 sleeve relative to part 1, "
-                       "bushing frame (z axial, x main radial), incl. the preload deflection; "
-                       "rotations Tait-Bryan x-y-z",
-                       f"bushing {m.group(1)} {m.group(2)}{m.group(3)} [{m.group(4)}]",
-                       adams=f"bushing_{m.group(1)}_{kind}_{m.group(3)}")
-    return None
-
-
-def bushing_columns(bushing: str) -> list[str]:
-    """kc.csv columns of a bushing's deflection: x y z (mm), rx ry rz (deg)."""
-    units = ("mm", "mm", "mm", "deg", "deg", "deg")
-    return [f"bushing_{bushing}_{d}_{u}" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
-                                                        units)]
-
-
-def load_column(item: str, component: str, frame: str) -> str:
-    """The loads.csv column of an element's load component (:data:`LOAD_COMPONENTS`) in a
-    frame (:data:`LOAD_FRAMES`), e.g. ``lca_bushing_fx_body_N``."""
-    return f"{item}_{component}_{frame}_{'N' if component[0] == 'f' else 'Nmm'}"
-
-
-def spring_column(spring: str) -> str:
-    return f"spring_{spring}_force_N"
-
-
-def stop_column(stop: str) -> str:
-    return f"stop_{stop}_force_N"
+    fields = item_channel_fields(name)
+    return None if fields is None else Channel(**fields)
 
 
 @dataclass(frozen=True)
@@ -359,6 +303,9 @@ CHARACTERISTIC_LIST = (
     Characteristic("wheel_rate_N_per_mm", "wheel rate", "N/mm", ".2f",
                    "least-squares slope of vertical force vs wheel travel",
                    "vertical_force", "wheel_travel_mm", "vertical_force_N"),
+    Characteristic("spring_wheel_rate_N_per_mm", "wheel rate from the springs", "N/mm", ".2f",
+                   "sum of rate x motion ratio^2 over the springs at the static state, a spring "
+                   "both wheels compress counted half (docs/characteristics.md)"),
     Characteristic("lateral_compliance_steer_deg_per_kN", "lateral compliance steer",
                    "deg/kN", ".4f", "toe per lateral force at the contact patch",
                    "lateral_force", "lateral_force_N", "toe_deg", 1000.0),
@@ -493,6 +440,8 @@ def sign_conventions() -> dict[str, str]:
     out = {"frame": "the config frame (see its 'frame' key); wheel-centre coordinates in it"}
     out.update({c.name: c.sign for c in CHANNEL_LIST})
     out["spring_*_force_N"] = channel("spring_s_force_N").sign
+    out["spring_*_length_mm, damper_*_length_mm"] = channel("spring_s_length_mm").sign
+    out["spring_*_motion_ratio, damper_*_motion_ratio"] = channel("spring_s_motion_ratio").sign
     out["bushing_*"] = channel("bushing_b_x_mm").sign
     out["<element>_{fx,fy,fz,mx,my,mz}_{body,local}_{N,Nmm} (loads.csv)"] = (
         f"{LOAD_SIGN}; body: {LOAD_FRAMES['body']}; local: {LOAD_FRAMES['local']}")

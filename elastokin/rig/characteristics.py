@@ -13,15 +13,16 @@ import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.physics.axle_sweeps import wheelbase_change_mm
+from elastokin.physics.motion_ratio import motion_ratio, wheel_rate_from_springs
 from elastokin.physics.states import StepState, WheelArrays
 from elastokin.physics.steering_geometry import track_change_mm
 from elastokin.physics.wheel import camber_deg, slope, toe_deg, windowed_slope
 from elastokin.rig.axle_channels import iso_rotation
-from elastokin.rig.channels import (
-    CHARACTERISTICS,
-    GRADIENTS,
-    STEERING_AXIS_COLUMNS,
+from elastokin.rig.channels import CHARACTERISTICS, GRADIENTS, STEERING_AXIS_COLUMNS
+from elastokin.rig.item_channels import (
     bushing_columns,
+    length_column,
+    motion_ratio_column,
     spring_column,
     stop_column,
 )
@@ -115,10 +116,38 @@ def characteristics(states: list[StepState] | WheelArrays, suspension: Suspensio
         if mine(name):
             for i, col in enumerate(bushing_columns(name)):
                 cols[col] = u[:, i]
+    both = both_wheels(s)
     for key, value in a.scalars.items():
         if key.startswith("stop:") and mine(key[5:]):
             cols[stop_column(key[5:])] = value
+        kind, _, name = key.partition("_length:")
+        if name and (mine(name) or name in both):
+            cols[length_column(kind, name)] = value
     return cols
+
+
+def both_wheels(suspension: Suspension) -> set[str]:
+    """The springs and dampers of an axle that both wheels move (kept once: joining the two
+    sides, e.g. a heave spring, or among shared parts and the ground): their lengths and
+    motion ratios are in both wheels' sweeps (each ratio per that wheel's travel)."""
+    axle = suspension.axle
+    if axle is None:
+        return set()
+    fixed = set(axle.shared) | {suspension.ground}
+    return {it.name for it in (*suspension.springs, *suspension.dampers)
+            if it.name in axle.across or set(it.parts) <= fixed}
+
+
+def motion_ratio_columns(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The motion ratio of every spring and damper of a travel sweep's ``columns`` (their
+    length columns against ``wheel_travel_mm``:
+    :func:`elastokin.physics.motion_ratio.motion_ratio`)."""
+    out = {}
+    for name, length in columns.items():
+        ratio = motion_ratio_column(name)
+        if ratio is not None:
+            out[ratio] = motion_ratio(columns["wheel_travel_mm"], length)
+    return out
 
 
 def _steering_columns(states, a: WheelArrays, s: Suspension, rows) -> dict[str, np.ndarray]:
@@ -208,12 +237,15 @@ def measured(sweep: Sweep, name: str) -> np.ndarray:
 
 
 def summary_figures(sweeps: list[Sweep], kinematic: bool,
-                    compliance: np.ndarray | None = None) -> dict:
+                    compliance: np.ndarray | None = None,
+                    springs: dict[str, tuple[float, float]] | None = None) -> dict:
     """The summary figures of one model (None when the load case was not run, or a slope is
     not determined: :func:`elastokin.physics.wheel.slope`): steer
     amplitude, bump steer, the steering axis at the static state (design pad height, design
     wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` (over the
-    measured rows, :func:`measured`) and the compliance matrix."""
+    measured rows, :func:`measured`), the compliance matrix, every spring's and damper's
+    motion ratio at the static state and, with ``springs`` (:func:`spring_shares`), the wheel
+    rate from the springs."""
     travel = find_sweep(sweeps, "parallel_travel")
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,
@@ -224,6 +256,11 @@ def summary_figures(sweeps: list[Sweep], kinematic: bool,
            "kinematic": kinematic}
     for name in STEERING_AXIS_COLUMNS:
         out[name] = static_row_value(travel, name) if travel is not None else None
+    # every spring's and damper's motion ratio at the static state (parallel travel)
+    out["motion_ratios"] = {} if travel is None else {
+        name: static_row_value(travel, name) for name in travel.columns
+        if name.endswith("_motion_ratio")}
+    out["spring_wheel_rate_N_per_mm"] = springs_wheel_rate(out, springs or {})
     for name, g in GRADIENTS.items():
         sw = find_sweep(sweeps, g.load_case)
         ok = sw is not None and g.x in sw.columns and g.y in sw.columns
@@ -258,3 +295,23 @@ def bushing_table(state: StepState, suspension: Suspension) -> dict[str, dict[st
             "load_N_Nmm": [float(x) for x in f],
         }
     return table
+
+
+def spring_shares(suspension: Suspension) -> dict[str, tuple[float, float]]:
+    """Every spring's (rate N/mm, share): the share of its rate a wheel takes in parallel
+    travel, 1/2 for a spring both wheels compress (:func:`both_wheels`), else 1
+    (:mod:`elastokin.physics.motion_ratio`)."""
+    both = both_wheels(suspension)
+    return {sp.name: (sp.rate_N_per_mm, 0.5 if sp.name in both else 1.0)
+            for sp in suspension.springs}
+
+
+def springs_wheel_rate(figures: dict, springs: dict[str, tuple[float, float]]
+                       ) -> float | None:
+    """The wheel rate from the springs of one wheel's summary ``figures`` (its springs'
+    motion ratios at the static state; None without a ratio or a rate)."""
+    ratios = figures.get("motion_ratios") or {}
+    terms = [(rate, ratios.get(motion_ratio_column(length_column("spring", name))), share)
+             for name, (rate, share) in springs.items()]
+    terms = [t for t in terms if t[1] is not None]
+    return determined(wheel_rate_from_springs(terms)) if terms else None

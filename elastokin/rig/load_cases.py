@@ -28,10 +28,11 @@ from elastokin.config.schema_rig import (
 from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
-from elastokin.rig.channels import STEERING_AXIS_COLUMNS
+from elastokin.rig.channels import LOAD_CASES, STEERING_AXIS_COLUMNS
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
+    motion_ratio_columns,
     steer_sign,
     wheel_column_tangents,
 )
@@ -163,6 +164,9 @@ def sweep_columns(by_side: dict, suspension, drive: Drive,
         out[side] = {**cols, **mine, **characteristics(by_side[side], view,
                                                         steering_rows=steering_rows),
                      **shared}
+        case = LOAD_CASES.get(drive.load_case)  # vehicle loads are not in the table
+        if case is not None and case.input == "wheel_travel_mm":  # the travel cases
+            out[side].update(motion_ratio_columns(out[side]))
     return out
 
 

@@ -19,7 +19,7 @@ from elastokin.physics.loads import (
     peak_step,
 )
 from elastokin.physics.states import LoadItem, LoadTable
-from elastokin.rig.channels import LOAD_COMPONENTS, load_column
+from elastokin.rig.item_channels import LOAD_COMPONENTS, load_column
 from elastokin.rig.sweeps import Sweep
 
 #: the elements whose loads a body pickup receives (not the rig's contact patches, not the

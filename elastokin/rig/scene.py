@@ -1,7 +1,7 @@
 """The 3D scene of a suspension as plain data (pure numpy; drawn by
 :mod:`elastokin.report.view3d`): every moving part as the body between its points (sticks and
 its convex hull), the ground's pickups, every connection (joints by kind, bushings with their
-frames, links), springs, stops, the anti-roll bar's torsion spring, the wheels with their
+frames, links), springs, dampers, stops, the anti-roll bar's torsion spring, the wheels with their
 tyres and contact patches, and the hardpoints no item uses. Everything at the design
 position, config frame, mm; each point is carried by one part (the ground's do not move), so
 that a step of a load case is the parts' poses (:mod:`elastokin.rig.scene_motion`).
@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.config.draft import SuspensionDraft
+from elastokin.physics.beams import node_line
 
 #: one colour per part (its mirrored copy on an axle's other side shares it)
 PART_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf",
@@ -25,6 +26,9 @@ PART_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"
 TYRE_WIDTH_PER_RADIUS = 0.7
 #: points closer than this (mm) are one point of a part
 SAME_POINT_MM = 1e-6
+#: a beam's band drawn this wide (mm) along its section's z axis when its shear centre lies
+#: on its node line (within 1 mm)
+BAND_MM = 40.0
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,8 @@ class ScenePart:
     sticks between them (``edges``, index pairs) and its convex hull (``triangles``, index
     triples; none for fewer than 3 points or points on a line). ``carriers``: the part whose
     pose moves each point: the part itself, or for a flexible (beam) part, which has no one
-    pose, the rigid part attached at that point (it is drawn straight between them)."""
+    pose, the rigid part attached at that point (a beam part is drawn through its nodes,
+    :class:`SceneBeam`: no sticks, no hull)."""
 
     name: str
     colour: str
@@ -47,11 +52,11 @@ class ScenePart:
 
 @dataclass(frozen=True)
 class SceneItem:
-    """A connection, spring, stop or the anti-roll bar's torsion spring: ``points_mm``
+    """A connection, spring, damper, stop or the anti-roll bar's torsion spring: ``points_mm``
     (design position) each carried by the part of the same index in ``carriers``; ``frame``
     (columns x y z, config frame) turns with ``carriers[0]``; ``kind``: the joint's kind,
-    ``bushing``, ``link``, ``spring``, ``bump stop``, ``rebound stop`` or ``anti-roll
-    bar``; ``text``: what it is, for the hover."""
+    ``bushing``, ``link``, ``spring``, ``damper``, ``bump stop``, ``rebound stop`` or
+    ``anti-roll bar``; ``text``: what it is, for the hover."""
 
     kind: str
     name: str
@@ -77,6 +82,22 @@ class SceneWheel:
 
 
 @dataclass(frozen=True)
+class SceneBeam:
+    """A flexible (beam) part drawn through its node line's nodes
+    (:func:`~elastokin.physics.beams.node_line`): ``nodes_mm`` (m, 3) at the design position,
+    ``labels`` (a named node's hardpoint, else its number), and a band from each node to the
+    shear centre (``band_mm`` (m, 3), config frame: the shear centre's offset, or
+    :data:`BAND_MM` along the section's z axis when it lies on the node line), which turns
+    with the section: its twist."""
+
+    part: str
+    colour: str
+    labels: tuple[str, ...]
+    nodes_mm: np.ndarray
+    band_mm: np.ndarray
+
+
+@dataclass(frozen=True)
 class Scene:
     """The scene of one suspension model (module docstring). ``ground_labels`` /
     ``ground_mm``: the ground's pickups; ``loose_labels`` / ``loose_mm``: hardpoints that no
@@ -94,6 +115,7 @@ class Scene:
     loose_labels: tuple[str, ...] = ()
     loose_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     errors: tuple[str, ...] = ()
+    beams: tuple[SceneBeam, ...] = ()
 
     @property
     def part_names(self) -> tuple[str, ...]:
@@ -214,6 +236,13 @@ def scene_items(d: SuspensionDraft, pts: _Points) -> list[SceneItem]:
                                None, f"{sp.name}: spring {sp.parts[0]} - {sp.parts[1]}, "
                                f"{sp.rate_N_per_mm:g} N/mm, installed length "
                                f"{sp.installed_length_mm:.1f} mm"))
+    for dm in d.dampers:
+        for p, x in zip(dm.parts, dm.points_mm):
+            pts.add(p, x, dm.name)
+        rate = f", {dm.rate_N_s_per_mm:g} N*s/mm" if dm.rate_N_s_per_mm is not None else ""
+        items.append(SceneItem("damper", dm.name, dm.parts, dm.parts, np.array(dm.points_mm),
+                               None, f"{dm.name}: damper {dm.parts[0]} - {dm.parts[1]}{rate}, "
+                               f"installed length {dm.installed_length_mm:.1f} mm"))
     for st in d.stops:
         for p, x in zip(st.parts, st.points_mm):
             pts.add(p, x, st.name)
@@ -285,14 +314,29 @@ def build_scene(d: SuspensionDraft) -> Scene:
         x = np.array([p for _, p in found]).reshape(-1, 3)
         carriers = tuple(_carrier(d, name, p, flexible) for p in x)
         about = getattr(d.parts[name], "description", "") + (
-            " (flexible: drawn straight between the parts it is attached to)"
-            if name in flexible else "")
+            " (flexible: drawn through its nodes)" if name in flexible else "")
+        rigid = name not in flexible
         parts.append(ScenePart(name, colours[name], about, tuple(lab for lab, _ in found), x,
-                               _sticks(x), () if name in flexible else _hull(x), carriers))
+                               _sticks(x) if rigid else (), _hull(x) if rigid else (),
+                               carriers))
     ground = pts.by_part.get(d.ground, [])
     loose = [k for k in d.hardpoints if k not in pts.used]
     frame = f"config frame: x {d.frame.x}, y {d.frame.y}, z {d.frame.z}"
     return Scene(d.name, d.source, d.ground, frame, tuple(parts), tuple(items), tuple(wheels),
                  tuple(lab for lab, _ in ground),
                  np.array([x for _, x in ground]).reshape(-1, 3), tuple(loose),
-                 np.array([d.hardpoints[k] for k in loose], float).reshape(-1, 3), d.errors)
+                 np.array([d.hardpoints[k] for k in loose], float).reshape(-1, 3), d.errors,
+                 tuple(scene_beam(b, colours[b.part]) for b in flexible.values()))
+
+
+def scene_beam(b, colour: str) -> SceneBeam:
+    """The drawing of a flexible part ``b`` (:class:`~elastokin.config.suspension.Beam`)."""
+    nodes, segment = node_line(b.nodes_mm, b.elements_per_segment)
+    offset = np.asarray(b.shear_centre_mm, float)[segment]
+    on_line = np.linalg.norm(offset, axis=1) < 1.0
+    band = np.where(on_line[:, None], BAND_MM * np.asarray(b.frames, float)[segment, :, 2],
+                    offset)
+    per = b.elements_per_segment
+    labels = tuple(b.node_names[k // per] if k % per == 0 else f"node {k + 1}"
+                   for k in range(len(nodes)))
+    return SceneBeam(b.part, colour, labels, nodes, band)

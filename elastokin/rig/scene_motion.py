@@ -7,7 +7,9 @@ parts: each wheel's steering axis (springs locked, :func:`~elastokin.rig.steerin
 contact point through its instant centre, :func:`~elastokin.physics.instant_centres
 .kinematic_roll_centre`; a corner's with its mirror image). All three from the parts' poses
 at the step (velocity level: ideal joints, bushings by their ideal joints), so the design
-position has them too (:func:`design_frames`). Config frame, mm, N, deg.
+position has them too (:func:`design_frames`). Also each beam part's nodes (positions and
+rotations), the load each body pickup receives and the rig's load at each contact patch
+(the steps where a pickup's load peaks are among the frames). Config frame, mm, N, deg.
 """
 
 from __future__ import annotations
@@ -22,11 +24,14 @@ from elastokin.physics.instant_centres import (
     kinematic_roll_centre,
     point_velocity,
 )
-from elastokin.physics.states import PartPoses, PoseSeries
+from elastokin.physics.loads import FORCE, MOMENT, POINT, ground_loads, peak_step
+from elastokin.physics.states import LoadTable, PartPoses, PoseSeries
 from elastokin.physics.steering_axis import steering_axes_from_poses
 from elastokin.physics.steering_geometry import axis_ground_point, contact_point
 from elastokin.rig.axle_channels import iso_rotation
-from elastokin.rig.channels import LOAD_CASES, bushing_columns, spring_column, stop_column
+from elastokin.rig.channels import LOAD_CASES
+from elastokin.rig.item_channels import bushing_columns, spring_column, stop_column
+from elastokin.rig.loads import PICKUP_KINDS
 from elastokin.rig.scene import Scene
 from elastokin.rig.steering import steering_skeleton, travel_skeleton
 from elastokin.rig.sweeps import Sweep
@@ -65,15 +70,27 @@ class SceneFrames:
     instant_centre_mm: dict[str, np.ndarray] = field(default_factory=dict)
     contact_mm: dict[str, np.ndarray] = field(default_factory=dict)
     roll_centre_mm: np.ndarray | None = None
+    #: each beam part's node line: positions (k, m, 3) and rotations from the design position
+    #: (k, m, 3, 3) of its nodes (:class:`~elastokin.rig.scene.SceneBeam`'s)
+    beam_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    beam_rotation: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the load each body pickup receives (k, 3) N, at its point (3,) mm on the ground
+    #: (:func:`~elastokin.physics.loads.ground_loads`, :data:`~elastokin.rig.loads
+    #: .PICKUP_KINDS`)
+    pickup_N: dict[str, np.ndarray] = field(default_factory=dict)
+    pickup_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the rig's load on each tyre (k, 3) N at its contact patch (k, 3) mm, by its load item
+    patch_load_N: dict[str, np.ndarray] = field(default_factory=dict)
+    patch_load_mm: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def frames(self) -> int:
         return len(self.steps)
 
 
-def frame_steps(branch: np.ndarray, most: int = MAX_FRAMES) -> np.ndarray:
+def frame_steps(branch: np.ndarray, most: int = MAX_FRAMES, keep=()) -> np.ndarray:
     """Up to ``most`` step indices evenly spread over a sweep, every branch's first and last
-    step kept (where the rig turns)."""
+    step kept (where the rig turns), and the steps ``keep`` (e.g. where a load peaks)."""
     n = len(branch)
     if n <= most:
         return np.arange(n)
@@ -81,7 +98,7 @@ def frame_steps(branch: np.ndarray, most: int = MAX_FRAMES) -> np.ndarray:
     ends = np.flatnonzero(np.r_[True, b[1:] != b[:-1]] | np.r_[b[1:] != b[:-1], True])
     room = max(most - ends.size, 2)
     even = np.round(np.linspace(0, n - 1, room)).astype(int)
-    return np.unique(np.r_[ends, even])
+    return np.unique(np.r_[ends, even, np.asarray(keep, int)])
 
 
 def _pose_list(poses: PoseSeries, steps: np.ndarray) -> list[PartPoses]:
@@ -166,13 +183,24 @@ def sweep_frames(s: Suspension, scene: Scene, sweeps: list[Sweep],
     first = sweeps[0]
     if first.poses is None or first.poses.steps != first.steps:
         return None
-    steps = frame_steps(first.columns["branch"], most)
+    loads = scene_loads(first.loads)
+    peaks = [peak_step(np.linalg.norm(v[:, 0], axis=1))[0] for v in loads[0].values()]
+    steps = frame_steps(first.columns["branch"], most, peaks)
     poses = _pose_list(first.poses, steps)
     frames = SceneFrames(first.model, first.load_case, steps, first.steps)
     _rig_columns(sweeps, frames)
     for p in scene.part_names:
         R, t = first.poses.transforms(p, steps)
         frames.rotation[p], frames.translation_mm[p] = np.array(R), t
+    for b in scene.beams:
+        if b.part in first.poses.node_mm:
+            frames.beam_mm[b.part] = first.poses.node_mm[b.part][steps]
+            frames.beam_rotation[b.part] = first.poses.node_rotation[b.part][steps]
+    pickups, patches = loads
+    for name, v in pickups.items():
+        frames.pickup_N[name], frames.pickup_mm[name] = v[steps, 0], v[0, 2]
+    for name, v in patches.items():
+        frames.patch_load_N[name], frames.patch_load_mm[name] = v[steps, 0], v[steps, 2]
     for b in s.bushings:
         cols = [_column(sweeps, c, steps) for c in bushing_columns(b.name)]
         if all(c is not None for c in cols):
@@ -191,6 +219,19 @@ def sweep_frames(s: Suspension, scene: Scene, sweeps: list[Sweep],
     return frames
 
 
+def scene_loads(table: LoadTable | None) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """(each body pickup's load, each contact patch's load) at every step of a sweep's load
+    table, by item: (steps, 3, 3) force N, moment N*mm (about its point), point mm. A pickup's
+    is what the ground receives (:func:`~elastokin.physics.loads.ground_loads`), a contact
+    patch's what the rig applies to the tyre. Empty without loads."""
+    if table is None:
+        return {}, {}
+    pickups = ground_loads(table, table.ground, PICKUP_KINDS)
+    patches = {item.name: table.values[:, k, [FORCE, MOMENT, POINT]]
+               for k, item in enumerate(table.items) if item.kind == "contact_patch"}
+    return pickups, patches
+
+
 def design_frames(scene: Scene, s: Suspension | None, label: str = "design") -> SceneFrames:
     """The design position as one frame: no part moved, each bushing at its initial
     deflection; the steering axes, instant centres and roll centre when the whole suspension
@@ -199,6 +240,9 @@ def design_frames(scene: Scene, s: Suspension | None, label: str = "design") -> 
     for p in scene.part_names:
         frames.rotation[p] = np.eye(3)[None]
         frames.translation_mm[p] = np.zeros((1, 3))
+    for b in scene.beams:
+        frames.beam_mm[b.part] = b.nodes_mm[None]
+        frames.beam_rotation[b.part] = np.broadcast_to(np.eye(3), (1, len(b.nodes_mm), 3, 3))
     if s is None:
         return frames
     for b in s.bushings:

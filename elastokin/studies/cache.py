@@ -42,11 +42,12 @@ import tempfile
 import warnings
 from pathlib import Path
 
-from elastokin.version import __version__, exudyn_version
+from elastokin.version import __version__, code_sha256, exudyn_version
 
 #: bumped when what an entry holds or its layout changes (5: signed entries; 6: every part's
-#: pose in each sweep and the model's suspension in each ModelResult, for the 3D view)
-CACHE_FORMAT = 6
+#: pose in each sweep and the model's suspension in each ModelResult, for the 3D view; 7:
+#: the beam parts' node poses in each sweep's poses)
+CACHE_FORMAT = 7
 #: the largest entry read (the case study's are under 4 MB): larger ones are refused unread
 MAX_ENTRY_BYTES = 1 << 30
 MAGIC = b"elastokin-cache"
@@ -66,8 +67,11 @@ class _Ignored(Exception):
 
 
 def content_key(*parts) -> str:
-    """SHA-256 of the parts (bytes, strings, files as their bytes) and of the versions."""
-    h = hashlib.sha256(f"{CACHE_FORMAT} {__version__} {exudyn_version()}".encode())
+    """SHA-256 of the parts (bytes, strings, files as their bytes), of the versions and of
+    elastokin's own code (:func:`~elastokin.version.code_sha256`: a changed line of code is
+    a changed input)."""
+    h = hashlib.sha256(f"{CACHE_FORMAT} {__version__} {exudyn_version()} "
+                       f"{code_sha256()}".encode())
     for part in parts:
         if isinstance(part, Path):
             h.update(str(part.name).encode())

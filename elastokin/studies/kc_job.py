@@ -53,7 +53,7 @@ from elastokin.mbs.model import SuspensionModel
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.axle_summary import axle_characteristics
 from elastokin.rig.channels import LOAD_CASE_LIST, LOAD_CASES
-from elastokin.rig.characteristics import summary_figures
+from elastokin.rig.characteristics import spring_shares, summary_figures
 from elastokin.rig.comparison import errors_by_side, travel_stroke_note
 from elastokin.rig.drives import check_rig
 from elastokin.rig.load_cases import (
@@ -102,9 +102,10 @@ class ModelResult:
         config side's wheel; the other wheel's under its side (an axle, or a test with both
         wheels) and on an axle the axle's (``axle``,
         :func:`elastokin.rig.axle_summary.axle_characteristics`)."""
-        c = self.compliance
-        out = summary_figures(self.sweeps, self.kinematic, None if c is None else c[:6, :6])
-        sides = {side: summary_figures(sweeps, self.kinematic, None if c is None else c[6:, 6:])
+        c, k = self.compliance, self.kinematic
+        sp = None if self.suspension is None else spring_shares(self.suspension)
+        out = summary_figures(self.sweeps, k, None if c is None else c[:6, :6], sp)
+        sides = {side: summary_figures(sweeps, k, None if c is None else c[6:, 6:], sp)
                  for side, sweeps in self.other_sides.items()}  # the test's other wheel too
         out.update(sides)
         s = self.suspension
