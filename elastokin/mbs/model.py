@@ -104,6 +104,8 @@ class SuspensionModel(Attachments):
         # (scaled) laws, so that a stiffer bushing carries the same preload
         self.preloads = item_preloads(suspension, options.stiffness_scale, preloads,
                                       balancing_offsets)
+        #: the model's own, while a design twin's are set in place (mbs/twins.py)
+        self.design_preloads = self.preloads
         self.bushing_preload = self.preloads.bushing_preload
         self.initial_deflection = self.preloads.initial_deflection
         self.spring_force = self.preloads.spring_force

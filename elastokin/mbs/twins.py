@@ -111,7 +111,7 @@ def base_values(model: SuspensionModel) -> list:
     """The model's own values of its design-dependent parameters (computed once per entry)."""
     g = model.geometry
     own = model.__dict__.setdefault("_own_geometry", [])
-    own += g.values(model.suspension, model.preloads, len(own))
+    own += g.values(model.suspension, model.design_preloads, len(own))
     return own
 
 
