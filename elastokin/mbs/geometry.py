@@ -85,6 +85,8 @@ class Geometry:
     entries: list[tuple[str, object, str, Getter]] = field(default_factory=list)
     fixed: list[Getter] = field(default_factory=list)
     in_place: bool = True
+    #: the model's own values (made as twins ask for them; cleared when the model changes)
+    own: list = field(default_factory=list)
 
     def track(self, kind: str, number, param: str, getter: Getter) -> None:
         self.entries.append((kind, number, param, getter))

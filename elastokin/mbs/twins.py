@@ -110,9 +110,8 @@ class Twin:
 def base_values(model: SuspensionModel) -> list:
     """The model's own values of its design-dependent parameters (computed once per entry)."""
     g = model.geometry
-    own = model.__dict__.setdefault("_own_geometry", [])
-    own += g.values(model.suspension, model.design_preloads, len(own))
-    return own
+    g.own += g.values(model.suspension, model.design_preloads, len(g.own))
+    return g.own
 
 
 def _use_preloads(model: SuspensionModel, preloads) -> None:
