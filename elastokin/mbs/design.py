@@ -40,7 +40,8 @@ def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
     s = model.suspension
     return {side: model.add_support(PATCH_SUPPORT if side == s.side
                                     else f"{PATCH_SUPPORT}:{side}", w.part,
-                                    w.contact_patch_mm, HOLD_Z)
+                                    lambda x, side=side: x.wheels[side].contact_patch_mm,
+                                    HOLD_Z)
             for side, w in s.wheels.items()}
 
 
@@ -96,14 +97,22 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
     offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
     balanced = balanced_springs(s)
 
+    built: dict = {}  # one model per pass, its balanced springs' forces set in place
+
     def solve(p: np.ndarray):
         forces = dict(springs)
         forces.update(zip(balanced, (float(v) for v in p)))
-        model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
-                                balancing=ideal, balancing_offsets=offsets)
-        if idle[0]:
-            hold_idle_spins(model)
-        supports = hold_contact_patches(model)
+        key = (idle[0], bool(offsets))  # the offsets are set between the passes
+        if key in built:
+            model, supports = built[key]
+            set_spring_forces(model, {name: forces[name] for name in balanced})
+        else:
+            model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
+                                    balancing=ideal, balancing_offsets=offsets)
+            if idle[0]:
+                hold_idle_spins(model)
+            supports = hold_contact_patches(model)
+            built[key] = model, supports
         state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
                            "balancing the design position")[0]
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
@@ -149,6 +158,18 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
     if ideal:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
+
+
+def set_spring_forces(model: SuspensionModel, forces: dict[str, float]) -> None:
+    """Give springs of a built model other design forces (N): their reference lengths, set
+    in place (as the model computes them when built)."""
+    for sp in model.suspension.springs:
+        if sp.name in forces:
+            model.spring_force[sp.name] = forces[sp.name]
+            model.mbs.SetObjectParameter(model.springs[sp.name], "referenceLength",
+                                         sp.installed_length_mm + forces[sp.name]
+                                         / sp.rate_N_per_mm)
+    model.geometry.own.clear()
 
 
 def _first(result):
