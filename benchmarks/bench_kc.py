@@ -28,10 +28,20 @@ archive``; ``--baseline-rev none`` skips it): wall time ``fit_s``, CPU time of t
 and its workers ``fit_cpu_s``, model runs, and ``model_run_equivalents`` = fit CPU time / CPU
 time of one plain run of the test's load cases on the same model (same run, same machine).
 
+The sweep of an earlier revision and of today's code, each in a subprocess with the same
+script (``sweep_revisions``; ``--sweep-baseline-rev``, default the merge of issue 28, before
+its speed work; exported with ``git archive``): CPU time per point, the part of it inside
+Exudyn's ``SolveStatic`` (C++: Newton iterations, residuals, sensors) and the rest (Python:
+inputs, states, the rig's columns), the largest difference of the spin axes between the
+revisions (not zero against a revision before issue 24: the pad holds the tyre's lowest
+point), and Exudyn's own statistics of one solve (Newton iterations per step, its CPU-time
+shares).
+
 Prints the figures and writes them to ``benchmarks/results/bench_kc.json``. ``--quick``
 (bench_common): parallel travel only (configs/rigs/travel_only.yaml), one run (the naive
-set-up over 5 points), ``--help`` and one ``elastokin kc`` of the double wishbone axle at that
-rig, its charts; the fit's names checked, the fit not run. Targets:
+set-up over 5 points), today's sweep in its subprocess on +-20 mm (no baseline revision),
+``--help`` and one ``elastokin kc`` of the double wishbone axle at that rig, its charts; the
+fit's names checked, the fit not run. Targets:
 ms_per_point <= 0.3 and at least 5x below ms_per_point_naive (issue 2); kc cold <= 10 s,
 warm <= 3 s, help <= 0.5 s, charts <= 1 s for the corner's 8 (issue 17) and <= 1.5 s with the
 axle's (issue 18: the case study is an axle, 12 charts), the fit >= 10x fewer model-run
@@ -188,6 +198,116 @@ def fit_comparison(baseline_rev: str | None) -> dict:
     return result
 
 
+#: the merge of issue 28 (design to targets), before its speed work (the sweep's baseline)
+SWEEP_BASELINE_REV = "52a3eb2"
+#: one revision's sweep of parallel travel, timed in a subprocess (argv: config, repeat,
+#: travel half-width in mm or 0 for the config's): CPU time of the whole sweep and of the
+#: part inside Exudyn's SolveStatic, best of repeat; then one solve with Exudyn's statistics
+#: printed (parsed by the caller). Module-level names both revisions have.
+SWEEP_SCRIPT = r"""
+import json, sys, time
+import numpy as np
+import elastokin.mbs.solve as solve
+from elastokin.config.loading import load_suspension
+from elastokin.mbs.design import build_model, design_state
+from elastokin.rig.pad import run_pad
+from elastokin.rig.paths import travel_path
+s = load_suspension(sys.argv[1])
+repeat, half = int(sys.argv[2]), float(sys.argv[3])
+tp = s.rig.parallel_travel
+z, _ = travel_path(-half if half else tp.rebound_mm, half or tp.bump_mm, tp.step_mm,
+                   tp.unloading)
+model = build_model(s, design=design_state(s))
+call, inside = solve.exudyn_call, [0.0]
+def timed(fn, what):
+    t = time.process_time()
+    try:
+        return call(fn, what)
+    finally:
+        inside[0] += time.process_time() - t
+solve.exudyn_call = timed
+run_pad(model, pad_z_mm=z)
+best = (np.inf, 0.0)
+for _ in range(repeat):
+    inside[0], t = 0.0, time.process_time()
+    states = run_pad(model, pad_z_mm=z)
+    best = min(best, (time.process_time() - t, inside[0]))
+print(json.dumps({"points": len(z), "ms_per_point": 1e3 * best[0] / len(z),
+                  "solve_static_ms_per_point": 1e3 * best[1] / len(z),
+                  "spin_axes": [st.spin_axis.tolist() for st in states]}))
+import exudyn
+settings = solve.simulation_settings
+def shown(m, n):
+    ss = settings(m, n)
+    ss.show.computationTime = ss.show.statistics = True
+    ss.staticSolver.verboseMode = 1
+    return ss
+solve.simulation_settings = shown
+solve.exudyn_call = lambda fn, what: fn()  # Exudyn's printout not captured
+exudyn.config.printToConsole = True
+run_pad(model, pad_z_mm=z)
+"""
+
+
+def exudyn_statistics(text: str) -> dict:
+    """Newton iterations per step and Exudyn's CPU-time shares (%) from its printed
+    statistics of one solve."""
+    import re
+
+    def number(pattern: str) -> float | None:
+        m = re.search(pattern, text)
+        return float(m.group(1)) if m else None
+
+    steps = number(r"total number of steps:\s*(\d+)")
+    iterations = number(r"total number of Newton iterations:\s*(\d+)")
+    shares = {m.group(1): float(m.group(2)) for m in
+              re.finditer(r"^\s*(\w+)\s*= ([\d.e+-]+)%", text, re.M)}
+    return {"steps": steps, "newton_iterations": iterations,
+            "newton_iterations_per_step": iterations / steps if steps and iterations else None,
+            "jacobians": number(r"total number of Newton Jacobians:\s*(\d+)"),
+            "cpu_time_share_percent": shares}
+
+
+def sweep_figures(root: Path, config: Path, repeat: int, half_mm: float) -> dict:
+    """One revision's sweep (SWEEP_SCRIPT) in a subprocess with the code in ``root``."""
+    env = dict(os.environ, PYTHONPATH=str(root))
+    out = subprocess.run([sys.executable, "-c", SWEEP_SCRIPT, str(config), str(repeat),
+                          str(half_mm)], cwd=root, env=env, check=True, capture_output=True,
+                         text=True)
+    lines = out.stdout.splitlines()
+    first = next(i for i, line in enumerate(lines) if line.startswith("{"))
+    figures = json.loads(lines[first])
+    figures["python_ms_per_point"] = figures["ms_per_point"] - figures[
+        "solve_static_ms_per_point"]
+    figures["exudyn"] = exudyn_statistics("\n".join(lines[first + 1:]))
+    return figures
+
+
+def sweep_revisions(config: Path, baseline_rev: str | None, repeat: int,
+                    half_mm: float) -> dict:
+    """Today's sweep and the baseline revision's, alternately in subprocesses (module
+    docstring), with their ratio and the largest spin-axis difference."""
+    rel = config.resolve().relative_to(ROOT)
+    with tempfile.TemporaryDirectory() as tmp:
+        roots = {"today": ROOT}
+        if baseline_rev:
+            archive = subprocess.run(["git", "archive", baseline_rev], cwd=ROOT,
+                                     check=True, capture_output=True).stdout
+            subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+            roots["baseline"] = Path(tmp)
+        runs = {name: sweep_figures(root, root / rel, repeat, half_mm)
+                for name, root in roots.items()}
+    result = {name: {k: v for k, v in r.items() if k != "spin_axes"}
+              for name, r in runs.items()}
+    if baseline_rev:
+        result["baseline"]["rev"] = baseline_rev
+        result["ms_per_point_ratio"] = (runs["baseline"]["ms_per_point"]
+                                        / runs["today"]["ms_per_point"])
+        result["max_spin_axis_difference"] = float(np.max(np.abs(
+            np.array(runs["baseline"]["spin_axes"]) - np.array(runs["today"]["spin_axes"]))))
+    return result
+
+
 def best_of(fn, repeat: int) -> tuple[float, object]:
     best, out = float("inf"), None
     for _ in range(repeat):
@@ -240,6 +360,8 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--baseline-rev", default=BASELINE_REV,
                     help="git revision whose stiffness fit is the baseline ('none': skip)")
+    ap.add_argument("--sweep-baseline-rev", default=SWEEP_BASELINE_REV,
+                    help="git revision whose sweep is timed beside today's ('none': skip)")
     add_output_options(ap, "bench_kc")
     args = ap.parse_args(argv)
     out = output_path(args, "bench_kc")
@@ -251,6 +373,9 @@ def main(argv: list[str] | None = None) -> None:
                           "processor": platform.machine()},
               **solver_figures(s, ek.design_state(s), 1 if args.quick else args.repeat,
                                5 if args.quick else None)}
+    result["sweep_revisions"] = sweep_revisions(
+        Path(args.config), None if args.quick or args.sweep_baseline_rev == "none" else
+        args.sweep_baseline_rev, 1 if args.quick else args.repeat, 20.0 if args.quick else 0.0)
     result["end_to_end"] = end_to_end(args.config, args.quick)
     if args.quick:
         result["stiffness_fit"] = fit_script_names()
@@ -273,6 +398,18 @@ def report(r: dict, out: Path) -> None:
           f"{r['max_spin_axis_difference_tuned_vs_naive']:.2e}")
     print(f"before issue 28    {r['ms_per_point_before_issue28']:.3f} ms/point (the same "
           f"results: max spin-axis difference {r['max_spin_axis_difference_before_issue28']:.1e})")
+    sw = r["sweep_revisions"]
+    for name in ("baseline", "today"):
+        if name in sw:
+            v = sw[name]
+            print(f"sweep, {name:<8} {v.get('rev', 'this code'):>9}: {v['ms_per_point']:.3f} "
+                  f"ms/point CPU ({v['solve_static_ms_per_point']:.3f} in Exudyn's "
+                  f"SolveStatic, {v['python_ms_per_point']:.3f} Python; "
+                  f"{v['exudyn']['newton_iterations_per_step'] or float('nan'):.1f} Newton "
+                  "iterations a step)")
+    if "ms_per_point_ratio" in sw:
+        print(f"sweep: {sw['ms_per_point_ratio']:.2f}x faster than {sw['baseline']['rev']}, max "
+              f"spin-axis difference {sw['max_spin_axis_difference']:.1e}")
     e = r["end_to_end"]
     print(f"elastokin --help    {e['help_s']:8.2f} s (target <= 0.5)")
     print(f"kc cold             {e['kc_cold_s']:8.2f} s (target <= 10; stiffness fit "

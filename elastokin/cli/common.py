@@ -52,12 +52,14 @@ def check_writable(path: Path, option: str = "--out") -> None:
         for folder in [existing] + ([path] if path.is_dir() else []):
             try:
                 fd, probe = tempfile.mkstemp(prefix=".elastokin-probe-", dir=folder)
+                os.close(fd)
+                os.unlink(probe)
             except FileNotFoundError:
-                if folder == path and not path.exists():
-                    continue  # another run moved its results in meanwhile: `existing` told
+                if folder == path:
+                    # another run replaced the folder meanwhile (moved aside with the probe
+                    # in it, its own moved in): the parent, probed first, is what counts
+                    continue
                 raise
-            os.close(fd)
-            os.unlink(probe)
     except OSError as exc:
         raise cannot_write(option, path, exc.strerror or str(exc)) from exc
 

@@ -214,6 +214,8 @@ def _remove_if_stale(folder: Path, out: Path) -> None:
         info = info if isinstance(info, dict) else {}
         if info.get("results", out.name) != out.name or not _owner_gone(fd, info):
             return
+        if not os.path.lexists(folder / OWNER):
+            return  # its run removed it (the owner file first, then the lock) meanwhile
         who = (f"the run (pid {info.get('pid', '?')} on {info.get('host', '?')}, started "
                f"{info.get('started', '?')}) that left it has ended")
         previous = folder / "previous"

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectConnectorSpringDamper
 
+from elastokin.mbs.geometry import of
 from elastokin.mbs.user_functions import (
     DEG_PER_RAD,
     attach_user_function,
@@ -33,32 +34,41 @@ def add_line_elements(model) -> tuple[dict[str, int], dict[str, int], dict[str, 
     of the model's suspension, by name: the elements acting along the line between two
     points."""
     s = model.suspension
-    return ({sp.name: add_spring(model, sp, model.spring_force[sp.name]) for sp in s.springs},
+    return ({sp.name: add_spring(model, sp) for sp in s.springs},
             {dm.name: add_damper(model, dm) for dm in s.dampers},
             {st.name: add_stop(model, st) for st in s.stops})
 
 
-def add_spring(model, spring, force_N: float) -> int:
+def add_spring(model, spring) -> int:
     """The coil spring ``spring`` (:class:`~elastokin.config.suspension.Spring`) between its
-    seats, carrying the compression force ``force_N`` at its installed length."""
-    m0 = model.position_marker(spring.parts[0], spring.seats_mm[0])
-    m1 = model.position_marker(spring.parts[1], spring.seats_mm[1])
-    # compression force P at the installed length L: reference length L + P / k
-    ref_len = spring.installed_length_mm + force_N / spring.rate_N_per_mm
-    return model.mbs.AddObject(ObjectConnectorSpringDamper(
-        markerNumbers=[m0, m1], referenceLength=ref_len, stiffness=spring.rate_N_per_mm,
-        damping=0.0, name=f"spring:{spring.name}"))
+    seats, carrying its design force (``model.spring_force``) at its installed length."""
+    this = of("springs", spring.name, lambda x: x)
+    m0 = model.position_marker(spring.parts[0], lambda s: this(s).seats_mm[0])
+    m1 = model.position_marker(spring.parts[1], lambda s: this(s).seats_mm[1])
+
+    def ref_len(s, preloads) -> float:
+        # compression force P at the installed length L: reference length L + P / k
+        x = this(s)
+        return x.installed_length_mm + preloads.spring_force[x.name] / x.rate_N_per_mm
+
+    obj = model.mbs.AddObject(ObjectConnectorSpringDamper(
+        markerNumbers=[m0, m1], referenceLength=ref_len(model.suspension, model.preloads),
+        stiffness=spring.rate_N_per_mm, damping=0.0, name=f"spring:{spring.name}"))
+    model.track("object", obj, "referenceLength", ref_len)
+    return model.track("object", obj, "stiffness", lambda s, _: this(s).rate_N_per_mm)
 
 
 def add_damper(model, damper) -> int:
     """The damper ``damper`` (:class:`~elastokin.config.suspension.Damper`) between its
     points: a connector without stiffness or damping (the rig is quasi-static: a damper
     carries no force at rest), whose length is recorded."""
-    m0 = model.position_marker(damper.parts[0], damper.points_mm[0])
-    m1 = model.position_marker(damper.parts[1], damper.points_mm[1])
-    return model.mbs.AddObject(ObjectConnectorSpringDamper(
+    this = of("dampers", damper.name, lambda x: x)
+    m0 = model.position_marker(damper.parts[0], lambda s: this(s).points_mm[0])
+    m1 = model.position_marker(damper.parts[1], lambda s: this(s).points_mm[1])
+    return model.track("object", model.mbs.AddObject(ObjectConnectorSpringDamper(
         markerNumbers=[m0, m1], referenceLength=damper.installed_length_mm, stiffness=0.0,
-        damping=0.0, name=f"damper:{damper.name}"))
+        damping=0.0, name=f"damper:{damper.name}")), "referenceLength",
+        lambda s, _: this(s).installed_length_mm)
 
 
 def stop_function(law, kind: str, symbolic: bool):
@@ -80,11 +90,14 @@ def stop_function(law, kind: str, symbolic: bool):
 def add_stop(model, stop) -> int:
     """The stop ``stop`` (:class:`~elastokin.config.suspension.Stop`) between its parts."""
     mbs = model.mbs
-    m0 = model.position_marker(stop.parts[0], stop.points_mm[0])
-    m1 = model.position_marker(stop.parts[1], stop.points_mm[1])
-    obj = mbs.AddObject(ObjectConnectorSpringDamper(
+    this = of("stops", stop.name, lambda x: x)
+    m0 = model.position_marker(stop.parts[0], lambda s: this(s).points_mm[0])
+    m1 = model.position_marker(stop.parts[1], lambda s: this(s).points_mm[1])
+    obj = model.track("object", mbs.AddObject(ObjectConnectorSpringDamper(
         markerNumbers=[m0, m1], referenceLength=stop.contact_length_mm, stiffness=0.0,
-        damping=0.0, name=f"stop:{stop.name}"))
+        damping=0.0, name=f"stop:{stop.name}")), "referenceLength",
+        lambda s, _: this(s).contact_length_mm)
+    model.geometry.fixed.append(lambda s, _: (this(s).kind, this(s).law))
     symbolic = model.options.user_functions == "symbolic"
     attach_user_function(model, obj, "springForceUserFunction",
                          stop_function(stop.law, stop.kind, symbolic), symbolic)
@@ -99,8 +112,10 @@ def add_anti_roll_bar(model, bar) -> int:
     ADAMS/Car's revolute joint between them, without a redundant constraint when the mounts
     are ideal revolutes)."""
     mbs = model.mbs
-    m0 = model.rigid_marker(bar.parts[0], bar.position_mm, bar.frame)
-    m1 = model.rigid_marker(bar.parts[1], bar.position_mm, bar.frame)
+    this = of("anti_roll_bar", None, lambda x: x)
+    m0, m1 = (model.rigid_marker(part, lambda s: this(s).position_mm, lambda s: this(s).frame)
+              for part in bar.parts)
+    model.geometry.fixed.append(lambda s, _: this(s).law)
     k = bar.law.rate_at_zero / RAD  # N*mm/rad
     rates = [BAR_TRANSLATION_RATE] * 3 + [BAR_BENDING_RATE] * 2
     obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
@@ -127,8 +142,10 @@ def add_steering_lock(model, steering) -> str:
     """The support holding the rack (:class:`~elastokin.config.suspension.Steering`) along
     its axis at its travel; active in every solve, at the travel unless a path is given."""
     # a lock: active from the start, so that every constraint count sees the rack held
-    model.add_support(STEERING_LOCK, steering.part, steering.position_mm, (0, 0, 1, 0, 0, 0),
-                      frame=frame_from_z(steering.axis),
+    this = of("steering", None, lambda x: x)
+    model.geometry.fixed.append(lambda s, _: this(s).travel_mm)  # the lock's offset
+    model.add_support(STEERING_LOCK, steering.part, lambda s: this(s).position_mm,
+                      (0, 0, 1, 0, 0, 0), frame=lambda s: frame_from_z(this(s).axis),
                       lock=np.array([0.0, 0.0, steering.travel_mm, 0.0, 0.0, 0.0]),
                       item=("steering_gear", "steering_gear"))
     return STEERING_LOCK

@@ -27,6 +27,7 @@ from exudyn.itemInterface import ObjectConnectorRigidBodySpringDamper, ObjectJoi
 from elastokin.config.suspension import Bushing
 from elastokin.errors import ModelError
 from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.geometry import of
 from elastokin.mbs.user_functions import attach_user_function, make_bushing_function
 from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.laws import ProgressiveLaw
@@ -106,26 +107,42 @@ class _SymbolicLaw:
 def add_bushing(model, b: Bushing) -> dict:
     """The Exudyn objects of bushing ``b`` on ``model`` (see the module docstring)."""
     mbs = model.mbs
-    m0 = model.rigid_marker(b.parts[0], b.position_mm, b.frame)
-    m1 = model.rigid_marker(b.parts[1], b.position_mm, b.frame)
-    rates = np.array([law.rate_at_zero for law in b.laws]) * model.options.stiffness_scale
-    rates_rad = rates.copy()
-    rates_rad[3:] /= DEG  # N*mm/deg -> N*mm/rad
+    this = of("bushings", b.name, lambda x: x)
+    m0, m1 = (model.rigid_marker(part, lambda s: this(s).position_mm, lambda s: this(s).frame)
+              for part in b.parts)
+    scale = model.options.stiffness_scale
+
+    def rates_of(s, _=None) -> np.ndarray:
+        """The rates at zero (N/mm, N*mm/rad) of the bushing in suspension ``s``."""
+        rates = np.array([law.rate_at_zero for law in this(s).laws]) * scale
+        rates[3:] /= DEG  # N*mm/deg -> N*mm/rad
+        return rates
+
+    rates_rad = rates_of(model.suspension)
     entry = {"markers": (m0, m1), "ideal": None}
     if b.kinematic or model.balancing:
-        return add_ideal_bushing(model, b, entry, rates_rad)
-    laws = [law.scaled(model.options.stiffness_scale) for law in b.laws]
+        return add_ideal_bushing(model, b, entry, rates_of)
+    laws = [law.scaled(scale) for law in b.laws]
     u0 = model.initial_deflection[b.name]
     symbolic = model.options.user_functions == "symbolic"
     parametric = b.name in model.options.parametric_bushings
     if all(law.is_linear for law in laws) and symbolic and not parametric:
         # linear laws: Exudyn's own K * (u - offset), no user function at all
-        offset = -np.r_[u0[:3], u0[3:] * DEG]
+        def offset(s, preloads) -> list:
+            u = preloads.initial_deflection[b.name]
+            return (-np.r_[u[:3], u[3:] * DEG]).tolist()
+
         obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
             markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
-            offset=offset.tolist(), name=f"bushing:{b.name}"))
+            offset=offset(model.suspension, model.preloads), name=f"bushing:{b.name}"))
+        model.track("object", obj, "stiffness", lambda s, _: np.diag(rates_of(s)))
+        model.track("object", obj, "offset", offset)
+        model.geometry.fixed.append(lambda s, _: all(law.is_linear for law in this(s).laws))
         entry.update(object=obj, linear=True, laws=laws, u0=u0)
         return entry
+    # the laws and their initial deflections are compiled into the user function
+    model.geometry.fixed.append(lambda s, preloads: (this(s).laws,
+                                                     preloads.initial_deflection[b.name]))
     obj = mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
         markerNumbers=[m0, m1], stiffness=np.diag(rates_rad), damping=np.zeros((6, 6)),
         name=f"bushing:{b.name}"))
@@ -143,23 +160,35 @@ def add_bushing(model, b: Bushing) -> dict:
     return entry
 
 
-def add_ideal_bushing(model, b: Bushing, entry: dict, rates_rad: np.ndarray) -> dict:
-    """Bushing ``b`` modelled by its ideal joint (or, balancing, held by it)."""
+def add_ideal_bushing(model, b: Bushing, entry: dict, rates_of) -> dict:
+    """Bushing ``b`` modelled by its ideal joint (or, balancing, held by it); ``rates_of``:
+    its rates (N/mm, N*mm/rad) in a suspension."""
     m0, m1 = entry["markers"]
     constrained = np.array(CONSTRAINED[b.ideal_joint])
-    kr = np.where(constrained[3:], 0.0, REGULARISATION * rates_rad[3:])
+    held = constrained[3:].astype(bool)
+
+    def stiffness(s, _=None) -> np.ndarray:
+        kr = np.where(held, 0.0, REGULARISATION * rates_of(s)[3:])
+        if model.balancing:
+            # translations held exactly (constraint reactions are the bushing forces);
+            # rotations held by stiff springs, whose torques Exudyn reports in the bushing
+            # frame
+            kr = np.where(held, BALANCING_ROTATION, kr)
+        return np.diag(np.r_[0.0, 0.0, 0.0, kr])
+
+    def offset(s, preloads) -> np.ndarray:
+        return np.r_[0.0, 0.0, 0.0, preloads.balancing_offsets.get(b.name, np.zeros(3))]
+
     if model.balancing:
-        # translations held exactly (constraint reactions are the bushing forces);
-        # rotations held by stiff springs, whose torques Exudyn reports in the bushing
-        # frame
-        kr = np.where(constrained[3:], BALANCING_ROTATION, kr)
         constrained[3:] = 0
     entry["ideal"] = model.mbs.AddObject(ObjectJointGeneric(
         markerNumbers=[m0, m1], constrainedAxes=constrained.tolist(),
         name=f"ideal:{b.name}"))
-    offset = np.r_[0.0, 0.0, 0.0, model.balancing_offsets.get(b.name, np.zeros(3))]
     entry["object"] = model.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-        markerNumbers=[m0, m1], stiffness=np.diag(np.r_[0.0, 0.0, 0.0, kr]),
-        damping=np.zeros((6, 6)), offset=offset, name=f"bushing:{b.name}"))
+        markerNumbers=[m0, m1], stiffness=stiffness(model.suspension),
+        damping=np.zeros((6, 6)), offset=offset(model.suspension, model.preloads),
+        name=f"bushing:{b.name}"))
+    model.track("object", entry["object"], "stiffness", stiffness)
+    model.track("object", entry["object"], "offset", offset)
     entry["linear"] = True
     return entry

@@ -53,26 +53,25 @@ def contact_arm(model, side: str, item: tuple[str, str] | None = None) -> str:
     is the wheel's contact point at the design position (``Wheel.contact_patch_mm``).
     Returns its name, the part to attach supports at the contact point to. ``item``: the
     reported load (:mod:`elastokin.mbs.loads`) its joint to the wheel part belongs to (what a
-    support on the arm applies to the wheel passes through it)."""
+    support on the arm applies to the wheel passes through it). Its markers are functions of
+    the suspension (:func:`wheel_centre`, :func:`spin_frame`, :func:`down_frames`): a
+    design's twin moves them in place (:mod:`elastokin.mbs.geometry`)."""
     name = arm_name(side)
     if item is not None:
         model.load_items[f"{name}:spin"] = item
     if name in model.rig_bodies:
         return name
     w = model.suspension.wheels[side]
-    up = model.suspension.up
     model.add_rig_body(name, w.centre_mm)
-    spin = frame_from_z(w.spin_axis)
-    m_wheel = model.rigid_marker(w.part, w.centre_mm, spin)
-    m_arm = model.rigid_marker(name, w.centre_mm, spin)
+    centre, spin = wheel_centre(side), spin_frame(side)
+    m_wheel = model.rigid_marker(w.part, centre, spin)
+    m_arm = model.rigid_marker(name, centre, spin)
     mbs = model.mbs
     mbs.AddObject(ObjectJointGeneric(markerNumbers=[m_wheel, m_arm],
                                      constrainedAxes=list(REVOLUTE_Z), name=f"{name}:spin"))
-    tangent = np.cross(w.spin_axis, up)
-    tangent /= np.linalg.norm(tangent)
-    ground_frame = np.column_stack([tangent, up, np.cross(tangent, up)])
-    m_ground = model.rigid_marker(model.suspension.ground, w.centre_mm, ground_frame)
-    m_tangent = model.rigid_marker(name, w.centre_mm, frame_from_z(tangent))
+    m_ground = model.rigid_marker(model.suspension.ground, centre,
+                                  lambda s: down_frames(s, side)[0])
+    m_tangent = model.rigid_marker(name, centre, lambda s: down_frames(s, side)[1])
     mbs.AddObject(ObjectJointGeneric(markerNumbers=[m_ground, m_tangent],
                                      constrainedAxes=list(TANGENT_HORIZONTAL),
                                      name=f"{name}:down"))
@@ -81,20 +80,44 @@ def contact_arm(model, side: str, item: tuple[str, str] | None = None) -> str:
     return name
 
 
+def wheel_centre(side: str):
+    """The design wheel centre (mm) of the wheel on ``side`` of a suspension."""
+    return lambda s: s.wheels[side].centre_mm
+
+
+def spin_frame(side: str):
+    """A frame (columns) whose z is the design spin axis of the wheel on ``side``."""
+    return lambda s: frame_from_z(s.wheels[side].spin_axis)
+
+
+def down_frames(suspension, side: str) -> tuple[np.ndarray, np.ndarray]:
+    """(the ground's frame, the arm's) of the contact arm's rotation constraint at the design
+    position: the ground frame's y is ``up``, the arm frame's z the wheel's tangent (normal to
+    its spin axis and to ``up``)."""
+    up = suspension.up
+    tangent = np.cross(suspension.wheels[side].spin_axis, up)
+    tangent /= np.linalg.norm(tangent)
+    return np.column_stack([tangent, up, np.cross(tangent, up)]), frame_from_z(tangent)
+
+
 def add_contact_load(model, name: str, side: str, item: tuple[str, str] | None = None) -> str:
     """A force (N, config frame) at the contact point of the wheel on ``side`` following a
     path given when solving (module docstring; inactive without one); ``item``: the reported
-    load it belongs to (:mod:`elastokin.mbs.loads`). Returns ``name``."""
+    load it belongs to (:mod:`elastokin.mbs.loads`). Returns ``name``. The loaded radius is
+    compiled into the load's user function: a design's twin with another is built as a model
+    of its own (:class:`~elastokin.mbs.geometry.Geometry`'s ``fixed``)."""
     w = model.suspension.wheels[side]
-    m_ground = model.rigid_marker(model.suspension.ground, w.centre_mm, np.eye(3))
+    centre = wheel_centre(side)
+    m_ground = model.rigid_marker(model.suspension.ground, centre, np.eye(3))
     # the wheel part's marker has its z along the spin axis: the connector's rotation
     # parameters then give the current spin axis with two angles (contact_load_function)
-    m_wheel = model.rigid_marker(w.part, w.centre_mm, frame_from_z(w.spin_axis))
+    m_wheel = model.rigid_marker(w.part, centre, spin_frame(side))
     obj = model.mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
         markerNumbers=[m_ground, m_wheel], stiffness=np.zeros((6, 6)),
         damping=np.zeros((6, 6)), activeConnector=False, name=name))
     model.loads[name] = {"object": obj, "part": w.part, "marker": m_wheel, "kind": "contact",
                          "side": side}
+    model.geometry.fixed.append(lambda s, _: s.wheels[side].loaded_radius_mm)
     if item is not None:
         model.load_items[name] = item
     exudyn_call(model.mbs.Assemble, f"{model.suspension.source}: attaching '{name}'")

@@ -42,7 +42,8 @@ def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
     s = model.suspension
     return {side: model.add_support(PATCH_SUPPORT if side == s.side
                                     else f"{PATCH_SUPPORT}:{side}", contact_arm(model, side),
-                                    w.contact_patch_mm, HOLD_Z)
+                                    lambda x, side=side: x.wheels[side].contact_patch_mm,
+                                    HOLD_Z)
             for side, w in s.wheels.items()}
 
 
@@ -81,9 +82,9 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
     a structure whose loads are linear in the balanced spring's force P: two solves give the P
     at which the contact patch carries the wheel load, a third the loads each bushing
     transmits at that P, which become the bushing preloads; the balance is solved again with
-    the stiff springs relaxed at the rotations their torques caused. Otherwise the compliant
-    model is used and P found by the secant method. ``record``: every balancing solve is
-    appended to it (:class:`BalancingSolve`; the design sensitivities,
+    the stiff springs relaxed at the rotations their torques caused (twice). Otherwise the
+    compliant model is used and P found by the secant method. ``record``: every balancing
+    solve is appended to it (:class:`BalancingSolve`; the design sensitivities,
     :mod:`elastokin.mbs.design_tangents`).
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
@@ -94,50 +95,17 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
                for b in s.bushings}
     if d.balance_spring is None and not d.balance_bushing_preloads:
         return DesignState(springs, preload)
-    ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
-    idle = [False]  # idle spins held: only when the plain balancing does not solve
-    offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
-    relaxed = [0]  # the relaxations of the stiff springs so far (the balancing's pass)
-    balanced = balanced_springs(s)
-
-    def solve(p: np.ndarray):
-        forces = dict(springs)
-        forces.update(zip(balanced, (float(v) for v in p)))
-        model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
-                                balancing=ideal, balancing_offsets=offsets)
-        if idle[0]:
-            hold_idle_spins(model)
-        supports = hold_contact_patches(model)
-        state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
-                           "balancing the design position")[0]
-        loads = model.balancing_bushing_loads() if ideal else state.bushing_load
-        pads = np.array([0.0 + state.support_force_N[supports[side]][2] for side in s.sides])
-        if record is not None:
-            sd = model.mbs.systemData
-            record.append(BalancingSolve(
-                relaxed[0], model, supports, np.asarray(p, float).copy(),
-                {k: v.copy() for k, v in offsets.items()}, idle[0],
-                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
-        return pads, loads
-
-    def balance():
-        if not balanced:
-            return np.zeros(0), solve(np.zeros(0))[1]
-        if len(balanced) == 1:
-            p, loads = _balance_spring(s, lambda p: _first(solve(np.array([p]))))
-            return np.array([p]), loads
-        return _balance_springs(s, balanced, solve)
-
+    run = _Balancing(s, springs, preload, record)
     try:
-        p1, loads = balance()
+        p1, loads = run.balance()
     except SolverError:
         # e.g. spring seats off the strut axis turn the strut rod, which only the ideal
         # joints' regularising rates hold: again with the idle spins held (mbs.idle)
-        if not ideal:
+        if not run.ideal:
             raise
-        idle[0] = True
-        p1, loads = balance()
-    if ideal:
+        run.idle = True
+        p1, loads = run.balance()
+    if run.ideal:
         # the stiff springs' rotation under the bushings' design torques moves the parts off
         # the design position (a 1.3e6 N*mm torque turns 1.3e-3 rad: 0.3 mm at a 250 mm
         # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it,
@@ -145,19 +113,95 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
         # the knuckle's pitch moves by the loaded radius times it (1e-6 rad left the double
         # wishbone's static pad load 2.6e-3 N and its wheel centre 7e-5 mm off the design)
         for _ in range(2):
-            for b in s.bushings:
-                held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
-                # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
-                offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
-            if any(np.any(v) for v in offsets.values()):
-                relaxed[0] += 1
-                p1, loads = balance()
-    if not balanced:
+            if run.relax(loads):
+                p1, loads = run.balance()
+    if not run.balanced:
         return DesignState(springs, {n: v.copy() for n, v in loads.items()})
-    springs.update(zip(balanced, (float(v) for v in p1)))
-    if ideal:
+    springs.update(zip(run.balanced, (float(v) for v in p1)))
+    if run.ideal:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
+
+
+class _Balancing:
+    """The solves of :func:`design_state` on suspension ``s`` (compliant) with the springs'
+    and bushings' preloads of its config: one balancing model per pass (built once, the
+    balanced springs' forces set in place between its solves)."""
+
+    def __init__(self, s: Suspension, springs: dict, preload: dict, record: list | None):
+        self.s, self.springs, self.preload, self.record = s, springs, preload, record
+        self.ideal = s.design.balance_bushing_preloads  # bushings held by their ideal joints
+        self.idle = False  # idle spins held: only when the plain balancing does not solve
+        self.offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
+        self.relaxed = 0  # the relaxations of the stiff springs so far (the pass)
+        self.balanced = balanced_springs(s)
+        self.built: dict = {}
+
+    def model(self, forces: dict) -> tuple[SuspensionModel, dict[str, str]]:
+        """This pass's balancing model with the springs at ``forces`` (N), and its supports."""
+        key = (self.idle, self.relaxed)  # the offsets change between the passes
+        if key in self.built:
+            model, supports = self.built[key]
+            set_spring_forces(model, {name: forces[name] for name in self.balanced})
+            return model, supports
+        model = SuspensionModel(self.s, ModelOptions(), DesignState(forces, self.preload),
+                                balancing=self.ideal, balancing_offsets=self.offsets)
+        if self.idle:
+            hold_idle_spins(model)
+        self.built[key] = model, hold_contact_patches(model)
+        return self.built[key]
+
+    def solve(self, p: np.ndarray):
+        """(the pads' vertical loads by wheel (N), the bushings' loads) with the balanced
+        springs at forces ``p`` (N)."""
+        forces = dict(self.springs)
+        forces.update(zip(self.balanced, (float(v) for v in p)))
+        model, supports = self.model(forces)
+        state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
+                           "balancing the design position")[0]
+        loads = model.balancing_bushing_loads() if self.ideal else state.bushing_load
+        pads = np.array([0.0 + state.support_force_N[supports[side]][2]
+                         for side in self.s.sides])
+        if self.record is not None:
+            sd = model.mbs.systemData
+            self.record.append(BalancingSolve(
+                self.relaxed, model, supports, np.asarray(p, float).copy(),
+                {k: v.copy() for k, v in self.offsets.items()}, self.idle,
+                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
+        return pads, loads
+
+    def balance(self):
+        """(the balanced springs' forces, the bushings' loads) of one pass."""
+        if not self.balanced:
+            return np.zeros(0), self.solve(np.zeros(0))[1]
+        if len(self.balanced) == 1:
+            p, loads = _balance_spring(self.s, lambda p: _first(self.solve(np.array([p]))))
+            return np.array([p]), loads
+        return _balance_springs(self.s, self.balanced, self.solve)
+
+    def relax(self, loads: dict) -> bool:
+        """Relax the stiff springs at the rotations the bushings' ``loads`` give them; whether
+        any turns (then the next pass)."""
+        for b in self.s.bushings:
+            held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
+            # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
+            self.offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+        if not any(np.any(v) for v in self.offsets.values()):
+            return False
+        self.relaxed += 1
+        return True
+
+
+def set_spring_forces(model: SuspensionModel, forces: dict[str, float]) -> None:
+    """Give springs of a built model other design forces (N): their reference lengths, set
+    in place (as the model computes them when built)."""
+    for sp in model.suspension.springs:
+        if sp.name in forces:
+            model.spring_force[sp.name] = forces[sp.name]
+            model.mbs.SetObjectParameter(model.springs[sp.name], "referenceLength",
+                                         sp.installed_length_mm + forces[sp.name]
+                                         / sp.rate_N_per_mm)
+    model.geometry.own.clear()
 
 
 def _first(result):

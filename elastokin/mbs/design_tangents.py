@@ -41,7 +41,7 @@ from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
 from elastokin.mbs.sensitivity import Residual, solve_tangents, system_matrices
-from elastokin.mbs.twins import check_rigid, twin_residuals
+from elastokin.mbs.twins import Twin, check_rigid, twin_residuals
 from elastokin.physics.joints import CONSTRAINED
 
 WHAT = "design preload sensitivities"
@@ -130,7 +130,11 @@ def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, ba
             M[:n, n + i] = res.residual() - r0[0]
             model.mbs.SetObjectParameter(obj, "referenceLength", length)
         y0 = np.r_[rec.coordinates, rec.multipliers]
-        for j in range(n):
+        # a pad's reaction is its support's multipliers (Exudyn's ForceLocal of a generic
+        # joint, in the fixed frame of its ground marker): only those columns
+        sd = model.mbs.systemData
+        for j in sorted(n2 + int(i) for sup in rec.supports.values()
+                        for i in sd.GetObjectLTGAE(model.supports[sup]["object"])):
             dj = 1e-6 * max(1.0, abs(y0[j]))
             pads = []
             for sign in (1.0, -1.0):
@@ -142,32 +146,30 @@ def _pass_tangents(rec: BalancingSolve, variations, explicit, offsets, ideal, ba
         res.set_state(*step)
     finally:
         res.close()
-    d_force, d_loads = [], []
+    zero = {sup: np.zeros((1, 6)) for sup in rec.supports.values()}
+    twins = []
+    rhs = np.zeros((n + m, len(variations)))
     for k, (plus, minus, h) in enumerate(variations):
-        twins = {}
+        twins.append({})
+        r, pads = {}, {}
         for sign, sus in ((1, plus), (-1, minus)):
             shifted = {b: v + sign * h * offsets[k].get(b, 0.0) for b, v in rec.offsets.items()}
-            if (k, sign) in cache:
-                twins[sign] = cache[k, sign]
-                set_balancing_offsets(twins[sign], shifted)
-            else:
-                twins[sign] = cache[k, sign] = _balancing_twin(rec, sus, shifted, ideal)
-        rhs = np.zeros(n + m)
-        r, pads = {}, {}
-        for sign, twin in twins.items():
-            r[sign] = twin_residuals(twin, {sup: np.zeros((1, 6)) for sup in
-                                            rec.supports.values()}, [step], WHAT)[0]
-            pads[sign] = _pads(twin, rec.supports)
-        rhs[:n] = (r[1] - r[-1]) / (2 * h)
-        rhs[n:] = (pads[1] - pads[-1]) / (2 * h)
-        dz = solve_tangents(M[None], rhs[None, :, None])[0, :, 0]
-        d_force.append(dz[n:])
+            twin = twins[k][sign] = _balancing_twin(rec, sus, shifted, ideal, cache, (k, sign))
+            with twin.applied() as evaluated:
+                r[sign] = twin_residuals(evaluated, zero, [step], WHAT)[0]
+                pads[sign] = _pads(evaluated, rec.supports)
+        rhs[:n, k] = (r[1] - r[-1]) / (2 * h)
+        rhs[n:, k] = (pads[1] - pads[-1]) / (2 * h)
+    dz = solve_tangents(M[None], rhs[None])[0]  # one factorisation for every variable
+    d_force, d_loads = [], []
+    for k, (_, _, h) in enumerate(variations):
+        d_force.append(dz[n:, k])
         if ideal:
             loads = {}
-            for sign, twin in twins.items():
-                y = y0 + sign * h * dz[:n]
-                twin_state(twin, y, n2)
-                loads[sign] = twin.balancing_bushing_loads()
+            for sign, twin in twins[k].items():
+                with twin.applied() as evaluated:
+                    twin_state(evaluated, y0 + sign * h * dz[:n, k], n2)
+                    loads[sign] = evaluated.balancing_bushing_loads()
             d_loads.append({b: (loads[1][b] - loads[-1][b]) / (2 * h) for b in loads[1]})
     return d_force, d_loads
 
@@ -185,22 +187,31 @@ def set_balancing_offsets(model: SuspensionModel, offsets: dict) -> None:
     for name, v in offsets.items():
         e = model.bushings[name]
         model.mbs.SetObjectParameter(e["object"], "offset", [0.0, 0.0, 0.0, *map(float, v)])
-        model.balancing_offsets[name] = np.asarray(v, float)
+        model.preloads.balancing_offsets[name] = np.asarray(v, float)
 
 
 def _balancing_twin(rec: BalancingSolve, suspension: Suspension, offsets: dict,
-                    ideal: bool) -> SuspensionModel:
-    """The balancing model of ``rec`` built for ``suspension`` (the design moved along one
+                    ideal: bool, cache: dict, key) -> Twin:
+    """The balancing model of ``rec`` for ``suspension`` (the design moved along one
     variable): the balanced springs at the same forces, the others and the bushings at the
-    config's own, the stiff springs at ``offsets``."""
+    config's own, the stiff springs at ``offsets``; in place on ``rec``'s model, or a model
+    built for it once (``cache``: by ``key``; its offsets moved for a later pass)."""
     s = compliant(suspension)
     own = config_preloads(s)
     forces = dict(own.spring_force_N)
     forces.update(zip(balanced_springs(s), (float(v) for v in rec.spring_force_N)))
-    twin = SuspensionModel(s, ModelOptions(), DesignState(forces, own.bushing_preload),
-                           balancing=ideal, balancing_offsets=offsets,
-                           references=rec.model.ref)
-    if rec.idle:
-        hold_idle_spins(twin)
-    hold_contact_patches(twin)
-    return twin
+    preloads = DesignState(forces, own.bushing_preload)
+
+    def build() -> SuspensionModel:
+        if key in cache:
+            set_balancing_offsets(cache[key], offsets)
+            return cache[key]
+        twin = cache[key] = SuspensionModel(s, ModelOptions(), preloads, balancing=ideal,
+                                            balancing_offsets=offsets,
+                                            references=rec.model.ref)
+        if rec.idle:
+            hold_idle_spins(twin)
+        hold_contact_patches(twin)
+        return twin
+
+    return Twin(rec.model, s, preloads, build, balancing_offsets=offsets)

@@ -92,6 +92,7 @@ def hold_idle_spins(model) -> dict[str, list[int]]:
                                                                 k))
     if springs:
         exudyn_call(model.mbs.Assemble, f"{model.suspension.source}: holding idle spins")
+        model.geometry.in_place = False  # their axes follow from the model's Jacobian
     return springs
 
 

@@ -25,14 +25,10 @@ attachments' paths.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from exudyn.itemInterface import (
-    LoadForceVector,
-    LoadTorqueVector,
-    MarkerBodyPosition,
-    MarkerBodyRigid,
     ObjectConnectorDistance,
     ObjectGround,
     ObjectJointGeneric,
@@ -46,10 +42,12 @@ from elastokin.config.suspension import Suspension
 from elastokin.config.variants import BallJointFriction, DesignState
 from elastokin.errors import ModelError
 from elastokin.mbs import friction
+from elastokin.mbs.attachments import Attachments
 from elastokin.mbs.axle_elements import add_anti_roll_bar, add_line_elements, add_steering_lock
 from elastokin.mbs.beams import NOISE_FACTOR, BeamBody
 from elastokin.mbs.bushings import DEG, add_bushing
 from elastokin.mbs.exudyn_api import EXUDYN_VERSION, exu, exudyn_call
+from elastokin.mbs.geometry import Geometry, item_preloads, of
 from elastokin.mbs.loads import LoadRecorder
 from elastokin.mbs.options import NO_LOADS, ModelOptions
 from elastokin.physics.states import PartPoses
@@ -60,7 +58,20 @@ __all__ = ["DEG", "EXUDYN_VERSION", "NO_LOADS", "ModelOptions", "SuspensionModel
 ABSOLUTE_TOLERANCE = 1e-6
 
 
-class SuspensionModel:
+def joint_points(j) -> tuple[np.ndarray, np.ndarray]:
+    """Where each part's marker of joint ``j`` sits (mm, config frame): at its position, each
+    moved by its part's as-built shift (assembly clearance; the static solve closes the gap)
+    and part 0's by the joint's offset along its z (a rack held at travel_mm: the constraint
+    then puts part 1 there)."""
+    shift0, shift1 = (np.zeros(3), np.zeros(3)) if j.part_shift_mm is None else \
+        (np.asarray(j.part_shift_mm[0], float), np.asarray(j.part_shift_mm[1], float))
+    if list(j.constrained) == [1, 1, 1, 0, 0, 0] and not j.offset_mm:
+        return j.position_mm + shift0, j.position_mm + shift1
+    frame = np.asarray(j.frame, float)
+    return j.position_mm + float(j.offset_mm) * frame[:, 2] + shift0, j.position_mm + shift1
+
+
+class SuspensionModel(Attachments):
     """An assembled Exudyn model of one suspension.
 
     ``preloads``: spring forces and bushing loads at the design position (default: the
@@ -87,23 +98,19 @@ class SuspensionModel:
         self.references = references if references is not None else {}
         self.options = options
         self.balancing = balancing
-        self.balancing_offsets = dict(balancing_offsets or {})
         self.friction_spec = friction_spec
         self.substeps = friction_spec.substeps if friction_spec is not None else 1
-        given = preloads.bushing_preload if preloads is not None else {}
         # bushing loads at the design position (N, N*mm) -> initial deflections of the
         # (scaled) laws, so that a stiffer bushing carries the same preload
-        self.bushing_preload = {
-            b.name: (np.asarray(given[b.name], float) if b.name in given else
-                     np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)]))
-            for b in suspension.bushings}
-        self.initial_deflection = {
-            b.name: np.array([law.scaled(options.stiffness_scale).deflection_at(f)
-                              for law, f in zip(b.laws, self.bushing_preload[b.name])])
-            for b in suspension.bushings}
-        forces = preloads.spring_force_N if preloads is not None else {}
-        self.spring_force = {sp.name: forces.get(sp.name, sp.design_force_N())
-                             for sp in suspension.springs}
+        self.preloads = item_preloads(suspension, options.stiffness_scale, preloads,
+                                      balancing_offsets)
+        #: the model's own, while a design twin's are set in place (mbs/twins.py)
+        self.design_preloads = self.preloads
+        self.bushing_preload = self.preloads.bushing_preload
+        self.initial_deflection = self.preloads.initial_deflection
+        self.spring_force = self.preloads.spring_force
+        #: the design-dependent parameters, for twins in place (:mod:`elastokin.mbs.geometry`)
+        self.geometry = Geometry()
         self.keep_alive: list = []  # symbolic input paths of the current solve
         self.bushing_functions: list = []  # symbolic bushing laws (must outlive the model)
         self.supports: dict[str, dict] = {}
@@ -124,6 +131,11 @@ class SuspensionModel:
 
     # ------------------------------------------------------------------ building
     @property
+    def balancing_offsets(self) -> dict[str, np.ndarray]:
+        """A balancing model's stiff rotational springs' offsets (rad), by bushing."""
+        return self.preloads.balancing_offsets
+
+    @property
     def wheel_part(self) -> str:
         return self.suspension.wheel.part
 
@@ -143,15 +155,19 @@ class SuspensionModel:
         self.node = {n: mbs.GetObject(b)["nodeNumber"] for n, b in self.body.items()}
         #: the flexible parts (beam elements), by part name
         self.beams = {b.part: BeamBody(mbs, b) for b in s.beams if not b.rigid}
-        self.joints = {j.name: self._add_joint(j.name, j.parts, j.position_mm, j.frame,
-                                               j.constrained, j.offset_mm, j.part_shift_mm)
-                       for j in s.joints}
-        self.links = {}
+        self.joints = {j.name: self._add_joint(j) for j in s.joints}
+        self.links: dict[str, int] = {}
         for link in s.links:
-            m0, m1 = (self.position_marker(q, p) for q, p in zip(link.parts, link.points_mm))
-            length = float(np.linalg.norm(link.points_mm[1] - link.points_mm[0]))
-            self.links[link.name] = mbs.AddObject(ObjectConnectorDistance(
-                markerNumbers=[m0, m1], distance=length, name=f"link:{link.name}"))
+            points = of("links", link.name, lambda lk: lk.points_mm)
+            m0 = self.position_marker(link.parts[0], lambda s, pts=points: pts(s)[0])
+            m1 = self.position_marker(link.parts[1], lambda s, pts=points: pts(s)[1])
+
+            def length(s, _=None, pts=points) -> float:
+                return float(np.linalg.norm(pts(s)[1] - pts(s)[0]))
+
+            self.links[link.name] = self.track("object", mbs.AddObject(ObjectConnectorDistance(
+                markerNumbers=[m0, m1], distance=length(s), name=f"link:{link.name}")),
+                "distance", length)
         self.bushings = {b.name: add_bushing(self, b) for b in s.bushings}
         spec = self.friction_spec
         self.friction = {} if spec is None else {
@@ -210,73 +226,19 @@ class SuspensionModel:
             pts[part].append(bar.position_mm)
         return pts
 
-    def body_or_ground(self, part: str) -> int:
-        if part == self.suspension.ground:
-            return self.ground
-        return self.body[part] if part in self.body else self.rig_bodies[part]
-
-    def add_rig_body(self, name: str, point_mm, held: Iterable[int] | None = None) -> str:
-        """A massless body that is no suspension part (no pose recorded: a rig's body, a
-        wheel's contact arm, :mod:`elastokin.mbs.contact`) at ``point_mm`` (config frame);
-        ``held``: held to ground in those directions (6 flags) by a support ``name`` every
-        solve keeps (a lock at 0), else the caller joins it; supports and loads of parts can
-        act against it (``base``). Returns ``name``."""
-        if name in self.rig_bodies:
-            raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
-        ref = np.asarray(self.references.get(name, point_mm), float)
-        self.ref[name] = ref
-        self.rig_bodies[name] = self.mbs.CreateRigidBody(
-            referencePosition=ref, inertia=InertiaCuboid(density=1e-9, sideLengths=[100.0] * 3),
-            nodeType=exu.NodeType.RotationRxyz, name=f"rig_body:{name}")
-        self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
-        if self.options.loads:  # the rig's loads on the parts are reported where they act
-            self._add_pose_sensors(name, self.rig_bodies[name])
-        if held is None:
-            return name
-        return self.add_support(name, name, ref, held, lock=np.zeros(6))
-
-    def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:
-        """Change which directions a support holds (e.g. a rig body let free to heave)."""
-        self.mbs.SetObjectParameter(self.supports[name]["object"], "constrainedAxes",
-                                    [int(c) for c in constrained])
-        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: changing '{name}'")
-
-    def rigid_marker(self, part: str, position: np.ndarray, frame: np.ndarray) -> int:
-        """A rigid marker on ``part`` at ``position`` (mm, config frame, design position)
-        with axes ``frame`` (columns); on a beam part, at one of its named nodes."""
-        if part in self.beams:
-            return self.beams[part].rigid_marker(position, frame)
-        local = np.asarray(position) - self.ref[part]
-        return self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body_or_ground(part),
-                                                  localHT=exu.HT(np.asarray(frame), local)))
-
-    def position_marker(self, part: str, position: np.ndarray) -> int:
-        if part in self.beams:
-            return self.beams[part].position_marker(position)
-        local = np.asarray(position) - self.ref[part]
-        return self.mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body_or_ground(part),
-                                                     localPosition=local))
-
-    def _add_joint(self, name, parts, position, frame, constrained, offset_mm=0.0,
-                   part_shift_mm=None) -> int:
-        # part_shift_mm: where each part's attachment sits relative to ``position`` (an
-        # as-built joint with assembly clearance); the static solve closes the gap
-        shift0, shift1 = (np.zeros(3), np.zeros(3)) if part_shift_mm is None else \
-            (np.asarray(part_shift_mm[0], float), np.asarray(part_shift_mm[1], float))
-        if list(constrained) == [1, 1, 1, 0, 0, 0] and not offset_mm:
+    def _add_joint(self, j) -> int:
+        joint = of("joints", j.name, lambda x: x)
+        if list(j.constrained) == [1, 1, 1, 0, 0, 0] and not j.offset_mm:
             # 3 algebraic equations instead of the generic joint's 6
             return self.mbs.AddObject(ObjectJointSpherical(
-                markerNumbers=[self.position_marker(parts[0], position + shift0),
-                               self.position_marker(parts[1], position + shift1)],
-                name=f"joint:{name}"))
-        # an offset along the joint's z (a rack held at travel_mm) moves part 0's marker:
-        # the constraint then puts part 1 there
-        frame = np.asarray(frame, float)
-        m0 = self.rigid_marker(parts[0], position + float(offset_mm) * frame[:, 2] + shift0,
-                               frame)
-        m1 = self.rigid_marker(parts[1], position + shift1, frame)
+                markerNumbers=[self.position_marker(j.parts[k], lambda s, k=k:
+                                                    joint_points(joint(s))[k])
+                               for k in (0, 1)], name=f"joint:{j.name}"))
+        m0, m1 = (self.rigid_marker(j.parts[k], lambda s, k=k: joint_points(joint(s))[k],
+                                    lambda s: joint(s).frame) for k in (0, 1))
         return self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m0, m1], constrainedAxes=list(constrained), name=f"joint:{name}"))
+            markerNumbers=[m0, m1], constrainedAxes=list(j.constrained),
+            name=f"joint:{j.name}"))
 
     def _add_sensors(self) -> None:
         """Record the model's own outputs in C++ at each load step (no Python call per step):
@@ -321,74 +283,6 @@ class SuspensionModel:
             self.sensors[f"part:{name}:{key}"] = self.mbs.AddSensor(SensorBody(
                 bodyNumber=number, localPosition=[0.0, 0.0, 0.0], outputVariableType=output,
                 storeInternal=True, writeToFile=False))
-
-    # ------------------------------------------------------------------ attachments
-    def add_support(self, name: str, part: str, point_mm, constrained: Iterable[int],
-                    frame=None, base: str | None = None, lock=None,
-                    item: tuple[str, str] | None = None) -> str:
-        """Hold ``point_mm`` (config frame, design position) of ``part`` against ground (or
-        against ``base``, another part or a rig body) in the ``constrained`` directions (6
-        flags: translations x y z, rotations x y z of ``frame``, columns = axes in the config
-        frame; default the config frame), following an offset path given when solving;
-        inactive in a solve that gives it no path, unless ``lock`` (6 offsets) makes it one of
-        :attr:`locks`: active from the start, at ``lock`` unless a path is given. Its reaction
-        is recorded. ``item``: (name, kind) of the reported load it belongs to
-        (:mod:`elastokin.mbs.loads`; default the support's own name). Returns ``name``."""
-        if name in self.supports or name in self.loads:
-            raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
-        point = np.asarray(point_mm, float)
-        axes = np.eye(3) if frame is None else np.asarray(frame, float)
-        if base is None:
-            m_ground = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.ground,
-                                                          localHT=exu.HT(axes, point)))
-        else:
-            m_ground = self.rigid_marker(base, point, axes)
-        m_part = self.rigid_marker(part, point, axes)
-        obj = self.mbs.AddObject(ObjectJointGeneric(
-            markerNumbers=[m_ground, m_part], constrainedAxes=list(constrained),
-            activeConnector=lock is not None, name=name))
-        if lock is not None:
-            self.locks[name] = np.asarray(lock, float)
-        self.supports[name] = {"object": obj, "part": part, "marker": m_part}
-        if item is not None:
-            self.load_items[name] = item
-        self.sensors[f"support:{name}"] = self.mbs.AddSensor(SensorObject(
-            objectNumber=obj, outputVariableType=exu.OutputVariableType.ForceLocal,
-            storeInternal=True, writeToFile=False))
-        exudyn_call(self.mbs.Assemble, f"{self.suspension.source}: attaching '{name}'")
-        return name
-
-    def add_load(self, name: str, part: str, point_mm, kind: str = "force",
-                 marker_of: str | None = None, item: tuple[str, str] | None = None) -> str:
-        """A force (N) or torque (N*mm) on ``part`` at ``point_mm`` (config frame, design
-        position; ``kind`` "force" or "torque"), following a path given when solving (zero
-        without one). ``marker_of``: apply it at the marker of that support or load
-        instead of a new one. ``item``: as :meth:`add_support`'s. Returns ``name``."""
-        if name in self.supports or name in self.loads:
-            raise ModelError(f"{self.suspension.source}: attachment '{name}' exists already")
-        if marker_of is not None:
-            marker = {**self.supports, **self.loads}[marker_of]["marker"]
-        else:
-            marker = self.rigid_marker(part, np.asarray(point_mm, float), np.eye(3))
-        kind_of = LoadForceVector if kind == "force" else LoadTorqueVector
-        load = self.mbs.AddLoad(kind_of(markerNumber=marker, loadVector=[0, 0, 0]))
-        self.loads[name] = {"load": load, "part": part, "marker": marker, "kind": kind}
-        if item is not None:
-            self.load_items[name] = item
-        return name
-
-    def add_point_sensor(self, name: str, part: str, point_mm) -> str:
-        """Record where ``point_mm`` (config frame, design position) of ``part`` is at every
-        step (``ModelState.points[name]``, mm). Returns ``name``."""
-        if f"point:{name}" in self.sensors:
-            raise ModelError(f"{self.suspension.source}: point sensor '{name}' exists already")
-        local = np.asarray(point_mm, float) - self.ref[part]
-        self.point_sensors[name] = (part, local)
-        self.sensors[f"point:{name}"] = self.mbs.AddSensor(SensorBody(
-            bodyNumber=self.body[part], localPosition=local.tolist(),
-            outputVariableType=exu.OutputVariableType.Position, storeInternal=True,
-            writeToFile=False))
-        return name
 
     def start_from(self, coordinates) -> None:
         """Make every later solve start from these coordinates (every body's displacement and

@@ -60,8 +60,19 @@ class LawVariation:
 
 def rxyz_matrix(theta: np.ndarray) -> np.ndarray:
     """Rotation matrix (..., 3, 3) of Tait-Bryan angles (..., 3) (rad) as Exudyn's ``Rxyz``
-    nodes use them: ``Rx(t0) @ Ry(t1) @ Rz(t2)`` (local -> global)."""
-    return _rxyz(np.asarray(theta, float))[0]
+    nodes use them: ``Rx(t0) @ Ry(t1) @ Rz(t2)`` (local -> global), multiplied out."""
+    theta = np.asarray(theta, float)
+    (c0, c1, c2), (s0, s1, s2) = np.moveaxis(np.cos(theta), -1, 0), \
+        np.moveaxis(np.sin(theta), -1, 0)
+    R = np.empty(theta.shape[:-1] + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = c1 * c2, -c1 * s2, s1
+    R[..., 1, 0] = c0 * s2 + s0 * s1 * c2
+    R[..., 1, 1] = c0 * c2 - s0 * s1 * s2
+    R[..., 1, 2] = -s0 * c1
+    R[..., 2, 0] = s0 * s2 - c0 * s1 * c2
+    R[..., 2, 1] = s0 * c2 + c0 * s1 * s2
+    R[..., 2, 2] = c0 * c1
+    return R
 
 
 def rxyz_derivatives(theta: np.ndarray) -> np.ndarray:
@@ -218,19 +229,34 @@ class Residual:
         self.n2 = self.solver.GetODE2size()
         self.n = self.n2 + self.solver.GetAEsize()
         self.current = exu.ConfigurationType.Current
-        self.coords = coords = part_coordinates(model)
-        rows = row_dependencies(model)
-        perturbed, scatter = [], []  # coordinates of each perturbation; (perturbation,
-        for cls in colour_classes(rows, list(coords)):  # row, column) of every entry
-            for k in range(6):
-                e = len(perturbed)
-                perturbed.append(np.array([coords[p][k] for p in cls]))
-                for p in cls:
-                    for r, deps in rows:
-                        if p in deps:
-                            scatter += [(e, int(i), int(coords[p][k])) for i in r]
-        self.perturbed = perturbed
-        self.scatter = np.array(scatter).T
+        self.coords = part_coordinates(model)
+        self._structure = None
+
+    @property
+    def perturbed(self) -> list[np.ndarray]:
+        """The coordinates of each perturbation (one per colour class and direction)."""
+        return self.structure()[0]
+
+    @property
+    def scatter(self) -> np.ndarray:
+        """(perturbation, row, column) of every Jacobian entry, as three rows."""
+        return self.structure()[1]
+
+    def structure(self) -> tuple[list[np.ndarray], np.ndarray]:
+        if self._structure is None:  # made once, when a Jacobian is first asked for
+            coords = self.coords
+            rows = row_dependencies(self.model)
+            perturbed, scatter = [], []
+            for cls in colour_classes(rows, list(coords)):
+                for k in range(6):
+                    e = len(perturbed)
+                    perturbed.append(np.array([coords[p][k] for p in cls]))
+                    for p in cls:
+                        for r, deps in rows:
+                            if p in deps:
+                                scatter += [(e, int(i), int(coords[p][k])) for i in r]
+            self._structure = perturbed, np.array(scatter).T
+        return self._structure
 
     def set_state(self, t: float, q: np.ndarray, lam: np.ndarray) -> None:
         sd = self.mbs.systemData

@@ -127,9 +127,8 @@ def solve_path(model: SuspensionModel, inputs: Mapping[str, np.ndarray], what: s
     applied = set_attachment_paths(model, inputs, ts, n)
     if model.load_recorder is not None:
         model.load_recorder.update()  # sensors of attachments added since the last solve
-    rows = _solve_steps(model, ts, n, what, solve_per_step, settling)
-    states = [model_state(model, row, {k: v[i] for k, v in applied.items()})
-              for i, row in enumerate(rows)]
+    data, loads = _solve_steps(model, ts, n, what, solve_per_step, settling)
+    states = model_states(model, data, loads, applied)
     return states[1:] if settling else states
 
 
@@ -175,7 +174,8 @@ def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
 
     if not solve_per_step:
         ok, detail = solve()
-        rows = recorded(model, ts)
+        data, loads = recorded_arrays(model, ts)
+        rows = range(len(data[f"part:{model.wheel_part}:R"]))
     else:
         ss.staticSolver.numberOfLoadSteps = 1
         ss.staticSolver.loadStepDuration = 1.0 / n
@@ -200,7 +200,10 @@ def _solve_steps(model: SuspensionModel, ts: np.ndarray, n: int, what: str,
             f"{label}: static solve did not converge after step {len(rows)} of {n} "
             f"(Newton tolerance {sv.newton_tolerance:g}, at most {sv.max_newton_iterations} "
             f"iterations){detail}; check the geometry and the loads, or the solver settings")
-    return rows
+    if solve_per_step:  # the rows as arrays over the steps
+        data = {k: np.array([row[k] for row in rows]) for k in rows[0] if k != "loads"}
+        loads = None if rows[0]["loads"] is None else [row["loads"] for row in rows]
+    return data, loads
 
 
 def _solve_one_step(model: SuspensionModel, solve, settle: bool) -> tuple[bool, str]:
@@ -222,25 +225,35 @@ def _solve_one_step(model: SuspensionModel, solve, settle: bool) -> tuple[bool, 
 
 def recorded(model: SuspensionModel, ts: np.ndarray) -> list[dict[str, np.ndarray]]:
     """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive sub-steps
-    skipped), one dict of arrays per step."""
+    skipped), one dict of arrays per step (and its ``loads``)."""
+    picked, loads = recorded_arrays(model, ts)
+    n = len(picked[f"part:{model.wheel_part}:R"])
+    rows = [{k: v[i] for k, v in picked.items()} for i in range(n)]
+    for i, row in enumerate(rows):
+        row["loads"] = None if loads is None else loads[i]
+    return rows
+
+
+def recorded_arrays(model: SuspensionModel, ts: np.ndarray
+                    ) -> tuple[dict[str, np.ndarray], list | None]:
+    """Sensor values at the load-step times ``ts[1:]`` that were reached (adaptive sub-steps
+    skipped), as arrays (steps, k) by sensor key (bushings combined), and each step's load
+    table (None without a load recorder)."""
     data = {k: np.asarray(model.mbs.GetSensorStoredData(v)) for k, v in model.sensors.items()}
     t = data[f"part:{model.wheel_part}:R"][:, 0]
-    rows = []
-    for tk in ts[1:]:
-        hit = np.flatnonzero(np.abs(t - tk) < 1e-9)
-        if hit.size == 0:
-            break
-        rows.append(hit[-1])
-    idx = np.asarray(rows, int)
+    # each load step's last record (an adaptive step records its sub-steps too), up to the
+    # first step not reached
+    hit = np.abs(t[:, None] - ts[None, 1:]) < 1e-9
+    found = hit.any(axis=0)
+    reached = found.size if found.all() else int(np.argmin(found))
+    idx = (t.size - 1 - np.argmax(hit[::-1, :reached], axis=0)).astype(int)
     loads = None
     if model.load_recorder is not None and idx.size:  # from the sensors as stored
-        loads = model.load_recorder.tables(data, idx)
+        table = model.load_recorder.tables(data, idx)
+        loads = [table.step(i) for i in range(idx.size)]
     picked = combined_sensors({k: v[idx, 1:] for k, v in data.items()
                                if not k.startswith("load:")}, model)
-    rows = [{k: v[i] for k, v in picked.items()} for i in range(idx.size)]
-    for i, row in enumerate(rows):
-        row["loads"] = None if loads is None else loads.step(i)
-    return rows
+    return picked, loads
 
 
 def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
@@ -268,48 +281,53 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
     return data
 
 
-def model_state(model: SuspensionModel, row: dict[str, np.ndarray],
-                applied: dict[str, np.ndarray]) -> ModelState:
-    """The model's state from one row of its sensors' values (:func:`recorded`) and the
-    loads applied at that step (bushings without values in the
-    row left out)."""
-    springs = {n: -float(row[f"spring:{n}"][0]) for n in model.springs}
-    # stops: + pushing the points apart (bump) or together (rebound); the anti-roll bar's
-    # twist (deg, the second half relative to the first about its axis) and torque (N*mm)
-    scalars = {f"stop:{n}": abs(float(row[f"stop:{n}"][0])) for n in model.stops}
+def model_states(model: SuspensionModel, data: dict[str, np.ndarray], loads: list | None,
+                 applied: dict[str, np.ndarray]) -> list[ModelState]:
+    """The model's state at every step (bushings without values left out) from its sensors'
+    values as arrays (steps, k) (:func:`recorded_arrays`), each step's load table and the
+    loads applied (steps, 3); the keys are sorted out once, not per step."""
+    n = len(data[f"part:{model.wheel_part}:R"])
+    springs = [(name, (-data[f"spring:{name}"][:, 0]).tolist()) for name in model.springs]
+    scalars = [(f"stop:{name}", np.abs(data[f"stop:{name}"][:, 0]).tolist())
+               for name in model.stops]
     # spring and damper lengths (mm) between their points
-    scalars.update({f"{k}_length:{n}": float(row[f"{k}_length:{n}"][0])
-                    for k, items in (("spring", model.springs), ("damper", model.dampers))
-                    for n in items})
+    scalars += [(f"{k}_length:{n}", data[f"{k}_length:{n}"][:, 0].tolist())
+                for k, items in (("spring", model.springs), ("damper", model.dampers))
+                for n in items]
     if model.anti_roll_bar is not None:
-        scalars["arb:twist_deg"] = float(row["arb:r"][2]) / DEG
-        scalars["arb:torque_Nmm"] = float(row["arb:t"][2])
-    defl, load = {}, {}
-    for name, e in model.bushings.items():
-        if f"bushing:{name}:u" not in row:
-            continue
-        u = row[f"bushing:{name}:u"]
-        if e.get("ideal") is None:
-            u = u + model.initial_deflection[name]
-            f = row[f"bushing:{name}:load"]
-        else:
-            f = np.full(6, np.nan)
-        defl[name], load[name] = u, f
-    poses = PartPoses({n: row[f"part:{n}:R"].reshape(3, 3) for n in model.pose_refs},
-                      {n: row[f"part:{n}:disp"] for n in model.pose_refs}, model.pose_refs)
-    for part in model.node_lines:  # combined_sensors: rotations from the design frames
-        if f"beam:{part}:node_x" in row:
-            poses.node_mm[part] = row[f"beam:{part}:node_x"]
-            poses.node_rotation[part] = row[f"beam:{part}:node_R"]
-    supports = {n: row[f"support:{n}"] for n in model.supports}
-    points = {k.removeprefix("point:"): v for k, v in row.items() if k.startswith("point:")}
-    return ModelState(poses, springs, defl, load, supports, applied, points, scalars=scalars,
-                      loads=row.get("loads"))
+        scalars += [("arb:twist_deg", (data["arb:r"][:, 2] / DEG).tolist()),
+                    ("arb:torque_Nmm", data["arb:t"][:, 2].tolist())]
+    bushings = [(name, data[f"bushing:{name}:u"], data[f"bushing:{name}:load"],
+                 e.get("ideal") is None) for name, e in model.bushings.items()
+                if f"bushing:{name}:u" in data]
+    nan = np.full(6, np.nan)
+    rotation = [(p, data[f"part:{p}:R"].reshape(-1, 3, 3)) for p in model.pose_refs]
+    displacement = [(p, data[f"part:{p}:disp"]) for p in model.pose_refs]
+    supports = [(name, data[f"support:{name}"]) for name in model.supports]
+    points = [(k.removeprefix("point:"), v) for k, v in data.items() if k.startswith("point:")]
+    nodes = [(part, data[f"beam:{part}:node_x"], data[f"beam:{part}:node_R"])
+             for part in model.node_lines if f"beam:{part}:node_x" in data]
+    out = []
+    for i in range(n):
+        defl = {name: u[i] + model.initial_deflection[name] if own else u[i]
+                for name, u, _, own in bushings}
+        load = {name: f[i] if own else nan.copy() for name, _, f, own in bushings}
+        poses = PartPoses({p: r[i] for p, r in rotation}, {p: d[i] for p, d in displacement},
+                          model.pose_refs)
+        for part, x, R in nodes:  # combined_sensors: rotations from the design frames
+            poses.node_mm[part], poses.node_rotation[part] = x[i], R[i]
+        out.append(ModelState(poses, {name: v[i] for name, v in springs}, defl, load,
+                              {name: v[i] for name, v in supports},
+                              {k: v[i] for k, v in applied.items()},
+                              {name: v[i] for name, v in points},
+                              scalars={k: v[i] for k, v in scalars},
+                              loads=None if loads is None else loads[i]))
+    return out
 
 
 def state_arrays(model: SuspensionModel, data: dict[str, np.ndarray],
                  applied: dict[str, np.ndarray]) -> dict[str, object]:
-    """:func:`model_state` over many steps at once: from sensor values (steps, k) (bushings
+    """:func:`model_states` as arrays over the steps: from sensor values (steps, k) (bushings
     combined, :func:`combined_sensors`) and the loads applied (steps, 3), the fields of a
     :class:`~elastokin.physics.states.ModelState` as arrays over the steps (``poses``: per
     part (rotation (n, 3, 3), displacement (n, 3)))."""

@@ -6,13 +6,16 @@ multipliers), so ``dy/dp = -(dR/dy)^-1 dR/dp`` with no re-solve (as
 :mod:`elastokin.mbs.sensitivity` does for bushing laws). A change of the design moves
 Exudyn's reference configuration, the markers' local positions, link lengths, spring
 reference lengths, bushing frames and the rig's attachment points all at once; rather than
-follow each of these, dR/dp is the residual of a **twin**: the model built again from the
-changed suspension, with the **same parts' reference positions** as the model
-(``SuspensionModel(references=...)``), so that a coordinate vector means the same pose in
-both (a part's pose is its reference plus its displacement, its rotation from the identity),
-evaluated at the model's own converged state. Central differences, ``p +- step``: the
+follow each of these, dR/dp is the residual of a **twin** (:class:`Twin`): the model with the
+changed suspension's geometry and preloads, with the **same parts' reference positions**, so
+that a coordinate vector means the same pose in both (a part's pose is its reference plus its
+displacement, its rotation from the identity), evaluated at the model's own converged state.
+A twin is the model itself with its design-dependent parameters set in place
+(:mod:`elastokin.mbs.geometry`: no model is built), or, for a change the model cannot take in
+place (a nonlinear bushing's law, idle-spin springs), a model built again from the changed
+suspension (``SuspensionModel(references=...)``). Central differences, ``p +- step``: the
 residual is smooth in the design, and the twin's residual differs from the model's only in
-the terms the design changes.
+the terms the design changes. Only the steps a sweep keeps get derivatives.
 
 The channels depend on the design explicitly as well (a point sensor's local position, the
 wheel centre a travel is measured from, the design toe): every output of a step is
@@ -27,7 +30,8 @@ Units: mm, rad inside (coordinates); the design variables in their own units.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,6 +39,7 @@ import numpy as np
 from elastokin.errors import ModelError
 from elastokin.mbs.contact import set_contact_function
 from elastokin.mbs.exudyn_api import exu
+from elastokin.mbs.geometry import item_preloads, same, set_parameter
 from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.sensitivity import (
     Residual,
@@ -48,19 +53,96 @@ from elastokin.mbs.solve import combined_sensors, state_arrays
 from elastokin.physics.states import ModelState
 
 
+class Twin:
+    """A model at another design (module docstring): ``suspension`` and its preloads
+    (:class:`~elastokin.config.variants.DesignState`; a balancing model's stiff springs'
+    ``balancing_offsets``), evaluated on ``model`` itself with its design-dependent
+    parameters set in place (:meth:`applied`), or on a model ``build`` makes when the change
+    cannot be made in place. Other attributes are the evaluated model's (its attachments,
+    options, ...)."""
+
+    def __init__(self, model: SuspensionModel, suspension, preloads,
+                 build: Callable[[], SuspensionModel], balancing_offsets=None):
+        self.base, self.suspension = model, suspension
+        self.preloads = item_preloads(suspension, model.options.stiffness_scale, preloads,
+                                      model.balancing_offsets if balancing_offsets is None
+                                      else balancing_offsets)
+        in_place = model.geometry.shares_fixed(model.suspension, model.preloads, suspension,
+                                               self.preloads)
+        self.model = model if in_place else build()
+        self._fixed = len(model.geometry.fixed)  # the fixed values checked so far
+        self._values: list = []
+        self._changed: list[int] = []  # the entries whose values differ from the model's
+
+    def __getattr__(self, name):
+        model = self.__dict__.get("model")
+        if model is None:
+            raise AttributeError(name)
+        return getattr(model, name)
+
+    @property
+    def in_place(self) -> bool:
+        return self.model is self.base
+
+    @contextmanager
+    def applied(self):
+        """The evaluated model with this twin's design (in place: set on entry, the model's
+        own restored on exit)."""
+        if not self.in_place:
+            yield self.model
+            return
+        model, g = self.base, self.base.geometry
+        if len(g.fixed) > self._fixed:  # items added since the twin was made (the rig's)
+            if not g.shares_fixed(model.suspension, model.preloads, self.suspension,
+                                  self.preloads, self._fixed):
+                raise ModelError(f"{self.suspension.source}: a design variable changes what "
+                                 "the rig attached to the model after its twins were made "
+                                 "cannot take in place (e.g. a wheel's loaded radius)")
+            self._fixed = len(g.fixed)
+        start = len(self._values)
+        self._values += g.values(self.suspension, self.preloads, start)
+        own = base_values(model)
+        self._changed += [i for i in range(start, len(own))
+                          if not same(own[i], self._values[i])]
+        changed, kept = self._changed, model.preloads
+        try:
+            for i in changed:
+                set_parameter(model, *g.entries[i][:3], self._values[i])
+            _use_preloads(model, self.preloads)
+            yield model
+        finally:
+            for i in changed:
+                set_parameter(model, *g.entries[i][:3], own[i])
+            _use_preloads(model, kept)
+
+
+def base_values(model: SuspensionModel) -> list:
+    """The model's own values of its design-dependent parameters (computed once per entry)."""
+    g = model.geometry
+    g.own += g.values(model.suspension, model.design_preloads, len(g.own))
+    return g.own
+
+
+def _use_preloads(model: SuspensionModel, preloads) -> None:
+    model.preloads = preloads
+    model.bushing_preload = preloads.bushing_preload
+    model.initial_deflection = preloads.initial_deflection
+    model.spring_force = preloads.spring_force
+
+
 @dataclass
 class TwinPair:
-    """One design variable: the models at ``p + step`` and ``p - step`` (built with the base
-    model's references), and the inputs each takes in the solve at hand (attachment name ->
-    values per step, as :func:`~elastokin.mbs.solve.solve_path` takes them; the rig computes
-    them from each twin's own suspension)."""
+    """One design variable: the twins at ``p + step`` and ``p - step`` (:class:`Twin`), and
+    the inputs each takes in the solve at hand (attachment name -> values per step, as
+    :func:`~elastokin.mbs.solve.solve_path` takes them; the rig computes them from each
+    twin's own suspension)."""
 
-    plus: SuspensionModel
-    minus: SuspensionModel
+    plus: Twin
+    minus: Twin
     step: float
     inputs: dict[int, Mapping[str, np.ndarray]] = field(default_factory=dict)
 
-    def models(self) -> tuple[tuple[int, SuspensionModel], ...]:
+    def models(self) -> tuple[tuple[int, Twin], ...]:
         return (1, self.plus), (-1, self.minus)
 
 
@@ -85,50 +167,106 @@ def check_rigid(suspension) -> None:
                          "are not supported yet (without its 'beam' section a part is rigid)")
 
 
-def twin_model(model: SuspensionModel, suspension, preloads) -> SuspensionModel:
+def twin_model(model: SuspensionModel, suspension, preloads) -> Twin:
     """A twin of ``model``: ``suspension`` (the design changed) with ``preloads``
-    (:class:`~elastokin.config.variants.DesignState`), built as
+    (:class:`~elastokin.config.variants.DesignState`): in place, or built as
     :func:`~elastokin.mbs.design.build_model` builds ``model``, with its parts' references."""
     from elastokin.mbs.idle import hold_idle_spins
 
-    twin = SuspensionModel(suspension, model.options, preloads, references=model.ref)
-    if any(b.kinematic for b in suspension.bushings):
-        hold_idle_spins(twin)
-    return twin
+    def build() -> SuspensionModel:
+        twin = SuspensionModel(suspension, model.options, preloads, references=model.ref)
+        if any(b.kinematic for b in suspension.bushings):
+            hold_idle_spins(twin)
+        return twin
+
+    return Twin(model, suspension, preloads, build)
 
 
 def solve_path_with_twins(model: SuspensionModel, inputs: Mapping[str, np.ndarray],
-                          what: str, twins: Sequence[TwinPair], bushings: bool = True
+                          what: str, twins: Sequence[TwinPair], bushings: bool = True,
+                          keep: np.ndarray | None = None
                           ) -> tuple[list[ModelState], list[DesignArrays]]:
     """:func:`~elastokin.mbs.solve.solve_path`, and per twin pair the states on its twins
-    (:class:`DesignArrays`, module docstring); ``bushings``: with the bushings' deflections
-    and loads in the twins' states (else left out: they cost a call into Exudyn per bushing,
-    state and variable). Friction is refused."""
+    (:class:`DesignArrays`, module docstring) at the steps ``keep`` selects (a mask; default
+    every step); ``bushings``: with the bushings' deflections and loads in the twins' states
+    (else left out: they cost a call into Exudyn per bushing, state and variable). Friction
+    is refused."""
     states, steps = recorded_solve(model, inputs, what)
     if not twins:
         return states, []
-    n = len(states)
+    rows = np.arange(len(steps)) if keep is None else np.flatnonzero(keep)
+    steps = [steps[i] for i in rows]
+    n = len(steps)
     res = Residual(model, n, what)
+    own: dict[int, Residual] = {}  # the residuals of twins built as models of their own
+
+    def residual_of(twin) -> Residual:
+        if twin.in_place:
+            return res
+        key = id(twin.model)
+        if key not in own:
+            own[key] = Residual(twin.model, n, what)
+        return own[key]
+
+    own_inputs = {k: _rows(v, rows) for k, v in inputs.items()}
+
+    def own_fed(tw, sign, twin) -> bool:
+        values = tw.inputs[sign]
+        return twin.in_place and values.keys() == own_inputs.keys() and all(
+            np.array_equal(_rows(v, rows), own_inputs[k]) for k, v in values.items())
+
+    def fed(tw, sign, twin) -> StepInputs | OwnInputs:
+        if own_fed(tw, sign, twin):
+            return OwnInputs(model, own_inputs, n)
+        return StepInputs(twin.model, {k: _rows(v, rows) for k, v in tw.inputs[sign].items()},
+                          n)
+
     try:
         A, _ = system_matrices(res, steps)
-    finally:
-        res.close()
-    prepared = [{sign: (StepInputs(twin, tw.inputs[sign], n), Residual(twin, n, what))
-                 for sign, twin in tw.models()} for tw in twins]
-    try:
         B = np.empty((n, res.n, len(twins)))
+        r: dict = {}
+        # twins fed the model's own inputs first: the paths its solve set (at C++ speed, no
+        # Python user function per residual) are still there
+        order = sorted(((k, sign, twin) for k, tw in enumerate(twins)
+                        for sign, twin in tw.models()),
+                       key=lambda kst: not own_fed(twins[kst[0]], kst[1], kst[2]))
+        for k, sign, twin in order:
+            with twin.applied():
+                feed = fed(twins[k], sign, twin)  # assembled before a residual is made
+                r[k, sign] = _residuals(residual_of(twin), feed, steps)
         for k, tw in enumerate(twins):
-            r = {sign: _residuals(res_k, feed, steps)
-                 for sign, (feed, res_k) in prepared[k].items()}
-            B[:, :, k] = (r[1] - r[-1]) / (2.0 * tw.step)
+            B[:, :, k] = (r[k, 1] - r[k, -1]) / (2.0 * tw.step)
         dy = solve_tangents(A, B)
-        design = [DesignArrays(_twin_states(tw, prepared[k], steps, dy[:, :, k], bushings),
-                               tw.step) for k, tw in enumerate(twins)]
+        design = []
+        for k, tw in enumerate(twins):
+            out = {}
+            for sign, twin in tw.models():
+                with twin.applied():
+                    feed = fed(tw, sign, twin)
+                    out[sign] = _twin_state(twin, residual_of(twin), feed, steps,
+                                            sign * tw.step * dy[:, :, k], bushings)
+            design.append(DesignArrays(out, tw.step))
     finally:
-        for both in prepared:
-            for _, res_k in both.values():
-                res_k.close()
+        for r in (res, *own.values()):
+            r.close()
     return states, design
+
+
+def _rows(values, rows: np.ndarray) -> np.ndarray:
+    """An attachment's values (steps, k) at ``rows``."""
+    v = np.asarray(values, float)
+    return v.reshape(len(v), -1)[rows]
+
+
+class OwnInputs:
+    """A twin fed the model's own inputs: the paths the model's solve set stay (no Python
+    user function per residual); :class:`StepInputs`' interface."""
+
+    def __init__(self, model: SuspensionModel, values: Mapping[str, np.ndarray], n: int):
+        self.applied = {name: values.get(name, np.zeros((n, 3))) for name in model.loads}
+
+    def at(self, i: int) -> None:
+        return None
 
 
 class StepInputs:
@@ -193,22 +331,17 @@ def _residuals(res: Residual, feed: StepInputs, steps) -> np.ndarray:
     return out
 
 
-def _twin_states(tw: TwinPair, prepared, steps, dy: np.ndarray, bushings: bool
-                 ) -> dict[int, dict[str, object]]:
-    """Each twin's states (:func:`~elastokin.mbs.solve.state_arrays`) at the steps moved by
-    ``+-step * dy`` (n_steps, N), by sign."""
-    out = {}
-    q0 = np.array([q for _, q, _ in steps])
-    lam0 = np.array([lam for _, _, lam in steps])
+def _twin_state(twin: Twin, res: Residual, feed: StepInputs, steps, dy: np.ndarray,
+                bushings: bool) -> dict[str, object]:
+    """The twin's states (:func:`~elastokin.mbs.solve.state_arrays`; its design applied) at
+    the steps moved by ``dy`` (n_steps, N)."""
+    n2 = res.n2
+    q = np.array([q for _, q, _ in steps]) + dy[:, :n2]
+    lam = np.array([lam for _, _, lam in steps]) + dy[:, n2:]
     times = [t for t, _, _ in steps]
-    for sign, twin in tw.models():
-        feed, res = prepared[sign]
-        n2 = res.n2
-        q = q0 + sign * tw.step * dy[:, :n2]
-        lam = lam0 + sign * tw.step * dy[:, n2:]
-        out[sign] = state_arrays(twin, sensor_arrays(twin, res, times, q, lam, bushings,
-                                                     feed), feed.applied)
-    return out
+    model = twin.model
+    return state_arrays(model, sensor_arrays(model, res, times, q, lam, bushings, feed),
+                        feed.applied)
 
 
 def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
@@ -250,7 +383,10 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         obj = mbs.GetObject(number)
         m0, m1 = obj["markerNumbers"]
         length = np.linalg.norm(marker_position(m1) - marker_position(m0), axis=1)
-        data[key] = law(length, obj)[:, None]
+        if law is None:  # a spring's or damper's length (Exudyn's Distance)
+            data[key] = length[:, None]
+        else:
+            data[key] = law(length, obj)[:, None]
     rest = [k for k in model.sensors if k not in data and not k.startswith("load:")
             and (bushings or not k.startswith("bushing:"))]
     if rest:
@@ -269,8 +405,11 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
 def _line_forces(model: SuspensionModel):
     """(sensor key, object, force law of its length) of every coil spring and stop: Exudyn's
     ``ForceLocal`` of a spring-damper, ``k (L - L0)``, and a stop's user function
-    (:func:`~elastokin.mbs.axle_elements.stop_function`)."""
-    out = []
+    (:func:`~elastokin.mbs.axle_elements.stop_function`); and of the springs' and dampers'
+    length sensors (law None: the length itself)."""
+    out = [(f"{kind}_length:{name}", number, None)
+           for kind, items in (("spring", model.springs), ("damper", model.dampers))
+           for name, number in items.items() if f"{kind}_length:{name}" in model.sensors]
     for name, number in model.springs.items():
         out.append((f"spring:{name}", number,
                     lambda L, obj: obj["stiffness"] * (L - obj["referenceLength"])))

@@ -53,18 +53,28 @@ class DirectionLaw:
             raise ValueError(f"curve load at zero deflection is {self(0.0):.6g}, expected 0 "
                              "(give a load at zero deflection as a preload)")
 
-    @property
-    def slopes(self) -> np.ndarray:
-        return np.diff(self.load) / np.diff(self.deflection)
+    # the arrays and figures below are made once per law (models are built often)
+    @functools.cached_property
+    def _arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        d, f = np.asarray(self.deflection), np.asarray(self.load)
+        d.setflags(write=False)
+        f.setflags(write=False)
+        return d, f
 
-    @property
+    @functools.cached_property
+    def slopes(self) -> np.ndarray:
+        s = np.diff(self.load) / np.diff(self.deflection)
+        s.setflags(write=False)
+        return s
+
+    @functools.cached_property
     def rate_at_zero(self) -> float:
         """Tangent stiffness at zero deflection (right-hand slope at a breakpoint)."""
-        u = np.asarray(self.deflection)
+        u = self._arrays[0]
         i = int(np.clip(np.searchsorted(u, 0.0, side="right") - 1, 0, u.size - 2))
         return float(self.slopes[i])
 
-    @property
+    @functools.cached_property
     def is_linear(self) -> bool:
         """True when the curve is one straight line through the origin."""
         s = self.slopes
@@ -73,8 +83,7 @@ class DirectionLaw:
     def __call__(self, u):
         """Load (N or N*mm) at deflection ``u`` (mm or deg); array-friendly."""
         u = np.asarray(u, float)
-        d = np.asarray(self.deflection)
-        f = np.asarray(self.load)
+        d, f = self._arrays
         s = self.slopes
         out = np.interp(u, d, f)
         out = np.where(u < d[0], f[0] + s[0] * (u - d[0]), out)

@@ -27,8 +27,9 @@ class SkeletonElement:
 
     kind: str  # "joint" (flags in a frame) or "distance"
     parts: tuple[str, str]
-    points: tuple[np.ndarray, np.ndarray]  # marker on each part, design position, mm
-    frame: np.ndarray | None = None  # joint frame (columns), fixed to parts[0]
+    #: marker on each part, design position, mm: (3,), or (S, 3) for a design per step
+    points: tuple[np.ndarray, np.ndarray]
+    frame: np.ndarray | None = None  # joint frame (columns), fixed to parts[0]; or (S, 3, 3)
     flags: tuple[int, ...] = ()  # constrained tx ty tz rx ry rz in that frame
     released: bool = False  # the steering input: not a constraint, its rate must not vanish
     #: a distance kept by an eliminated two-ball-joint part: each end's point as (the part
@@ -78,9 +79,12 @@ class SkeletonSteps:
         return self.rotation[part], self.position[part]
 
     def moved(self, part, p):
+        """Where the design point ``p`` ((3,), or (S, 3) per step) of ``part`` is."""
         R, c = self.pose(part)
         if c is None:
             return np.broadcast_to(p, (self.n, 3))
+        if np.ndim(p) == 2:
+            return np.einsum("sij,sj->si", R, p - self.reference[part]) + c
         return np.einsum("sij,j->si", R, p - self.reference[part]) + c
 
     def translation_row(self, parts, q, a) -> np.ndarray:

@@ -79,7 +79,9 @@ def axle_columns(by_side: dict[str, list[StepState] | WheelArrays], suspension: 
             cols.update({"roll_centre_height_mm": rc.height_mm,
                          "roll_centre_lateral_mm": rc.lateral_mm})
         else:
-            cols.update(roll_centre_columns(patch, np.asarray(drive.branch)))
+            branch = np.asarray(drive.branch)
+            cols.update(roll_centre_columns(patch, branch if drive.recorded is None
+                                            else branch[drive.recorded]))
     return cols
 
 

@@ -30,7 +30,7 @@ from elastokin.errors import SolverError
 from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
-from elastokin.rig.channels import LOAD_CASES
+from elastokin.rig.channels import LOAD_CASES, STEERING_AXIS_COLUMNS
 from elastokin.rig.characteristics import (
     bushing_table,
     characteristics,
@@ -47,6 +47,7 @@ from elastokin.rig.drives import (
 )
 from elastokin.rig.pad import WheelInputs, run_rig
 from elastokin.rig.paths import travel_path
+from elastokin.rig.steering import stacked_steering_axis_columns
 from elastokin.rig.sweeps import Sweep, static_rows
 
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
@@ -156,11 +157,11 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     case's drive on that twin's suspension: :func:`twin_drives`) the tangents of every
     column (``Sweep.tangents``: column -> (steps, variables)); ``detail``: ``full`` (every
     column at every step) or ``summary`` (what the summary figures read: no bushing
-    columns, the steering axis at the static state only; the others NaN). ``static``: the
-    model's :func:`static_states` (solved here, with the same sensitivities or twins, when
-    not given or given without them): the pads move from it (:func:`pads_from_static`;
-    ``pad_z_mm`` is the change from it) and every change-from-static channel is referenced
-    to it."""
+    columns, the steering axis at the static state only, no approach from the design
+    position; the others NaN). ``static``: the model's :func:`static_states` (solved here,
+    with the same sensitivities or twins, when not given or given without them): the pads
+    move from it (:func:`pads_from_static`; ``pad_z_mm`` is the change from it) and every
+    change-from-static channel is referenced to it."""
     s = model.suspension
     rig = s.rig_source
     twins = list(twins or ())
@@ -175,35 +176,23 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         twins = [(pair, {sign: mirrored_rack(d, pair.models()[0 if sign > 0 else 1][1])
                          if mirrored else d for sign, d in per_sign.items()})
                  for pair, per_sign in twins]
-    rig_twins = [(pair, {sign: (pads_from_static(d, m.suspension, static.design[k][sign]),
-                                d.rack_travel_mm, d.heave_load_N)
-                         for (sign, d), (_, m) in zip(per_sign.items(), pair.models())})
+    rig_twins = [(pair, {sign: (pads_from_static(per_sign[sign], m.suspension,
+                                                 static.design[k][sign]),
+                                per_sign[sign].rack_travel_mm, per_sign[sign].heave_load_N)
+                         for sign, m in pair.models()})
                  for k, (pair, per_sign) in enumerate(twins)]
+    keep = drive.recorded
+    kept = np.ones(len(drive.branch), bool) if keep is None else np.asarray(keep, bool)
+    derived = kept & ((np.asarray(drive.branch) != "approach") | (detail == "full"))
     steps = run_rig(model, pads_from_static(drive, s, static), drive.rack_travel_mm,
                     drive.heave_load_N, what=what, variations=variations, twins=rig_twins,
-                    bushings=detail == "full")
-    keep = drive.recorded
+                    bushings=detail == "full", keep=derived)
     design = steps.design
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
     columns = sweep_columns({side: [st[side] for st in steps] for side in s.sides}, s, drive,
                             static)
-    rows = None if detail == "full" else static_rows(columns[s.side])
-    tangents = {side: {} for side in s.sides}
-    for k, (pair, per_sign) in enumerate(twins):
-        states, _ = design[k]
-        moved = {sign: sweep_columns({side: a if keep is None else a.rows(keep)
-                                      for side, a in states[sign].items()},
-                                     m.suspension, per_sign[sign], static.design[k][sign],
-                                     rows)
-                 for sign, m in pair.models()}
-        for side in s.sides:
-            for name in columns[side]:
-                if name == "branch" or name not in moved[1][side]:
-                    continue
-                t = tangents[side].setdefault(name, np.zeros((len(steps), len(twins))))
-                t[:, k] = (np.asarray(moved[1][side][name], float)
-                           - np.asarray(moved[-1][side][name], float)) / (2.0 * pair.step)
+    tangents = design_tangents(columns, twins, design, derived, kept, detail, s, static)
     first = [st[s.side] for st in steps]
     loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
     poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
@@ -215,6 +204,47 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
         sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side,
                             loads=loads if side == s.side else None, poses=poses))
     return sweeps
+
+
+def design_tangents(columns: dict, twins: list, design: list, derived: np.ndarray,
+                    kept: np.ndarray, detail: str, s, static: StaticStates
+                    ) -> dict[str, dict[str, np.ndarray]]:
+    """Per side, the tangents (rows, variables) of every column of a sweep (``columns`` by
+    side) from its states on each variable's twins (``design``, by variable), solved at the
+    steps ``derived`` (a mask over the solver's steps, within those ``kept``; the other rows
+    NaN); every change from each twin's own static state (``static.design``: the static state
+    moves with the design)."""
+    rows = np.flatnonzero(derived[kept])
+    n = int(kept.sum())
+    at_static = np.arange(rows.size) if detail == "full" else static_rows(
+        {k: np.asarray(v)[rows] for k, v in columns[s.side].items()})
+    # the columns on every twin, the steering axis left out: it is computed for all of them
+    # at once (stacked_steering_axis_columns: its fixed cost once)
+    moved = [{sign: sweep_columns(design[k][0][sign], m.suspension,
+                                  replace(per_sign[sign], recorded=derived),
+                                  static.design[k][sign], np.zeros(0, int))
+              for sign, m in pair.models()} for k, (pair, per_sign) in enumerate(twins)]
+    if at_static.size and any(STEERING_AXIS_COLUMNS[0] in m[1][s.side] for m in moved):
+        for side in s.sides:
+            cases = [(k, sign, m.suspension.on_side(side)) for k, (pair, _) in
+                     enumerate(twins) for sign, m in pair.models()]
+            axes = stacked_steering_axis_columns(
+                [([design[k][0][sign][side].step(i) for i in at_static], view)
+                 for k, sign, view in cases])
+            for (k, sign, _), cols in zip(cases, axes):
+                for name, values in cols.items():
+                    moved[k][sign][side][name][at_static] = values
+    tangents: dict[str, dict[str, np.ndarray]] = {side: {} for side in s.sides}
+    for k, (pair, _) in enumerate(twins):
+        for side in s.sides:
+            plus, minus = moved[k][1][side], moved[k][-1][side]
+            for name in columns[side]:
+                if name == "branch" or name not in plus:
+                    continue
+                t = tangents[side].setdefault(name, np.full((n, len(twins)), np.nan))
+                t[rows, k] = (np.asarray(plus[name], float)
+                              - np.asarray(minus[name], float)) / (2.0 * pair.step)
+    return tangents
 
 
 def sweep_columns(by_side: dict, suspension, drive: Drive, static: dict[str, StepState],

@@ -73,13 +73,30 @@ def attach_pads(model: SuspensionModel) -> None:
         if n["pad"] in model.supports:
             continue
         item = patch_item(side)
-        model.add_support(n["pad"], contact_arm(model, side, item), w.contact_patch_mm, HOLD_Z,
-                          item=item)
+        # the points as functions of the suspension: a design's twin moves them in place
+        patch, centre = contact_patch(side), wheel_centre(side)
+        model.add_support(n["pad"], contact_arm(model, side, item), patch, HOLD_Z, item=item)
         add_contact_load(model, n["patch_force"], side, item)
-        model.add_load(n["centre_force"], w.part, w.centre_mm, "force", item=item)
-        model.add_load(n["centre_torque"], w.part, w.centre_mm, "torque",
+        model.add_load(n["centre_force"], w.part, centre, "force", item=item)
+        model.add_load(n["centre_torque"], w.part, centre, "torque",
                        marker_of=n["centre_force"], item=item)
-        model.add_point_sensor(n["centre"], w.part, w.centre_mm)
+        model.add_point_sensor(n["centre"], w.part, centre)
+
+
+def contact_patch(side: str):
+    """The design contact point of the wheel on ``side`` of a suspension (mm): its lowest
+    point (``Wheel.contact_patch_mm``)."""
+    return lambda s: s.wheels[side].contact_patch_mm
+
+
+def wheel_centre(side: str):
+    """The design wheel centre of the wheel on ``side`` of a suspension (mm)."""
+    return lambda s: s.wheels[side].centre_mm
+
+
+def patches_midpoint(s) -> np.ndarray:
+    """The midpoint of a suspension's design contact points (mm): the heave beam's."""
+    return np.mean([w.contact_patch_mm for w in s.wheels.values()], axis=0)
 
 
 def attach_heave(model: SuspensionModel) -> None:
@@ -89,20 +106,19 @@ def attach_heave(model: SuspensionModel) -> None:
     if HEAVE in model.rig_bodies:
         return
     s = model.suspension
-    mid = np.mean([w.contact_patch_mm for w in s.wheels.values()], axis=0)
-    model.add_rig_body(HEAVE, mid, HELD)
-    model.add_load(HEAVE_LOAD, HEAVE, mid, "force")
-    for side, w in s.wheels.items():
+    model.add_rig_body(HEAVE, patches_midpoint(s), HELD)
+    model.add_load(HEAVE_LOAD, HEAVE, patches_midpoint, "force")
+    for side in s.wheels:
         model.add_support(names(side)["roll_pad"], contact_arm(model, side, patch_item(side)),
-                          w.contact_patch_mm, HOLD_Z, base=HEAVE, item=patch_item(side))
+                          contact_patch(side), HOLD_Z, base=HEAVE, item=patch_item(side))
 
 
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
             rack_travel_mm: np.ndarray | None = None, heave_load_N: np.ndarray | None = None,
             what: str = "static solve", solve_per_step: bool = False,
             substeps: int | None = None, variations: Sequence | None = None,
-            twins: Sequence | None = None, bushings: bool = True
-            ) -> list[dict[str, StepState]]:
+            twins: Sequence | None = None, bushings: bool = True,
+            keep: np.ndarray | None = None) -> list[dict[str, StepState]]:
     """Quasi-static steps of the rig from the design position, one dict of wheel states (by
     side) per step.
 
@@ -118,7 +134,8 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
         (:class:`~elastokin.mbs.twins.TwinPair`) and, by sign (+1, -1), the arguments
         ``(wheels, rack_travel_mm, heave_load_N)`` of the same load case on that twin's
         suspension; the returned :class:`RigSteps` then carry ``design``, the wheels' states
-        on the twins; ``bushings``: with the bushings' deflections on the twins
+        on the twins; ``bushings``: with the bushings' deflections on the twins; ``keep``:
+        the steps (a mask) with derivatives, default all
         (:func:`~elastokin.mbs.twins.solve_path_with_twins`).
     """
     from elastokin.mbs.sensitivity import solve_path_with_sensitivities
@@ -135,14 +152,15 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     twins = list(twins or ())
     for pair, per_sign in twins:
         pair.inputs = {sign: rig_inputs(m, *per_sign[sign])[0] for sign, m in pair.models()}
-    heaving = [model, *(m for pair, _ in twins for _, m in pair.models())] if roll else []
+    heaving = [model, *(m.model for pair, _ in twins for _, m in pair.models()
+                        if not m.in_place)] if roll else []
     for m in heaving:
         m.set_support_axes(HEAVE, HEAVING)
     design = []
     try:
         if twins:
             states, design = solve_path_with_twins(model, inputs, what, [p for p, _ in twins],
-                                                   bushings)
+                                                   bushings, keep)
         elif variations:
             states = solve_path_with_sensitivities(model, inputs, what, variations)
         else:

@@ -9,6 +9,7 @@ Config frame; mm and deg.
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -142,6 +143,75 @@ def steerable(suspension: Suspension) -> bool:
         any(s.wheel.part in lk.parts for lk in s.links)
 
 
+def stacked_skeleton(skeletons: list[SteeringSkeleton], rows: list[int]
+                     ) -> SteeringSkeleton | None:
+    """One skeleton for the steps of several suspensions of one layout (a design's twins):
+    each element's points and frame per step ((S, 3), (S, 3, 3)), every suspension's repeated
+    for its ``rows`` steps; None when the layouts differ."""
+    first = skeletons[0]
+    if any(len(sk.elements) != len(first.elements) or sk.reason is not None
+           or [(e.kind, e.parts, e.flags, e.released, e.anchors is None) for e in sk.elements]
+           != [(e.kind, e.parts, e.flags, e.released, e.anchors is None)
+               for e in first.elements] for sk in skeletons):
+        return None
+
+    def stack(values) -> np.ndarray:
+        return np.concatenate([np.repeat(np.asarray(v, float)[None], r, axis=0)
+                               for v, r in zip(values, rows)])
+
+    elements = []
+    for es in zip(*(sk.elements for sk in skeletons)):
+        e0 = es[0]
+        anchors = None if e0.anchors is None else tuple(
+            (e0.anchors[k][0], stack([e.anchors[k][1] for e in es])) for k in (0, 1))
+        elements.append(replace(e0, points=tuple(stack([e.points[k] for e in es])
+                                                 for k in (0, 1)),
+                                frame=None if e0.frame is None else stack([e.frame
+                                                                           for e in es]),
+                                anchors=anchors))
+    return replace(first, elements=tuple(elements))
+
+
+def stacked_steering_axis_columns(cases: list[tuple[list[StepState], Suspension]]
+                                  ) -> list[dict[str, np.ndarray]]:
+    """:func:`steering_axis_columns` of several (steps, suspension) pairs of one layout (a
+    design's twins) in one computation (its fixed cost once), without warnings (the model's
+    own run gives them)."""
+    if not cases or not steerable(cases[0][1]):
+        return [steering_axis_columns(steps, s) for steps, s in cases]
+    rows = [len(steps) for steps, _ in cases]
+    skeleton = stacked_skeleton([steering_skeleton(s) for _, s in cases], rows)
+    if skeleton is None:
+        return [steering_axis_columns(steps, s) for steps, s in cases]
+    steps = [st for group, _ in cases for st in group]
+    centre = np.array([st.wheel_centre_mm for st in steps])
+    axes = steering_axes_from_poses(skeleton, [st.poses for st in steps], centre)
+    out, start = [], 0
+    for (group, s), n in zip(cases, rows):
+        cut = slice(start, start + n)
+        start += n
+        spin = np.array([st.spin_axis for st in group])
+        out.append(axis_columns(axes.direction[cut], axes.point[cut], centre[cut], spin, s))
+    return out
+
+
+def axis_columns(direction: np.ndarray, point: np.ndarray, centre: np.ndarray,
+                 spin: np.ndarray, s: Suspension) -> dict[str, np.ndarray]:
+    """The steering-axis columns from the axis (unit directions, points; (S, 3)), the wheel
+    centres and spin axes (S, 3)."""
+    d = direction.copy()
+    d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
+    contact = contact_point(centre, spin, s.wheel.loaded_radius_mm, s.up)
+    return {
+        "caster_deg": caster_deg(d, s.forward, s.up),
+        "kingpin_inclination_deg": kingpin_inclination_deg(d, s.outboard, s.up),
+        "scrub_radius_mm": scrub_radius_mm(point, d, contact, spin, s.forward, s.outboard,
+                                           s.up),
+        "caster_trail_mm": caster_trail_mm(point, d, contact, spin, s.forward, s.outboard,
+                                           s.up),
+    }
+
+
 class SteeringAxisWarning(UserWarning):
     """The steering axis is undefined at some steps (NaN columns); the message says why."""
 
@@ -160,8 +230,9 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
         return {name: nan.copy() for name in STEERING_AXIS_COLUMNS}
     skeleton = steering_skeleton(s)
     axes = steering_axes_from_poses(skeleton, [st.poses for st in states], centre)
-    d, p = axes.direction.copy(), axes.point
-    d[np.abs(d @ s.up) < 1e-9] = np.nan  # a horizontal axis has no caster or ground point
+    out = axis_columns(axes.direction, axes.point, centre, spin, s)
+    d = axes.direction.copy()
+    d[np.abs(d @ s.up) < 1e-9] = np.nan
     if skeleton.reason is not None:  # the suspension has none (the same for every run)
         warnings.warn(SteeringAxisWarning(
             f"{s.source}: no steering axis (NaN caster, kingpin inclination, scrub radius, "
@@ -172,10 +243,4 @@ def steering_axis_columns(states: list[StepState], suspension: Suspension
             f"{s.source}: steering axis undefined at {bad} of {len(states)} steps (NaN "
             f"caster, kingpin inclination, scrub radius, caster trail): "
             f"{axes.reason or 'horizontal axis'}"), stacklevel=2)
-    contact = contact_point(centre, spin, s.wheel.loaded_radius_mm, s.up)
-    return {
-        "caster_deg": caster_deg(d, s.forward, s.up),
-        "kingpin_inclination_deg": kingpin_inclination_deg(d, s.outboard, s.up),
-        "scrub_radius_mm": scrub_radius_mm(p, d, contact, spin, s.forward, s.outboard, s.up),
-        "caster_trail_mm": caster_trail_mm(p, d, contact, spin, s.forward, s.outboard, s.up),
-    }
+    return out
