@@ -170,8 +170,10 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     finally:
         for m in heaving:
             m.set_support_axes(HEAVE, HELD)
-    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
-                    for side, wi in wheels.items()} for st in states)
+    contact = {side: contact_points(model, states, side) for side in wheels}
+    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll,
+                                      contact[side][i])
+                    for side, wi in wheels.items()} for i, st in enumerate(states))
     out.design = [({sign: {side: wheel_arrays(m, d.states[sign], side,
                                               wheels[side].pad_z_mm is not None, roll)
                            for side in wheels} for sign, m in pair.models()}, d.step)
@@ -278,14 +280,26 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
     return [step[model.suspension.side] for step in steps]
 
 
+def contact_points(model: SuspensionModel, states: Sequence[ModelState], side: str
+                   ) -> np.ndarray:
+    """(steps, 3) the contact point of the wheel on ``side`` at each of ``states`` (mm): its
+    lowest point (:func:`~elastokin.physics.steering_geometry.contact_point`) from the wheel
+    centre and spin axis, in one computation for all steps."""
+    w = model.suspension.wheels[side]
+    centre = np.array([st.points[names(side)["centre"]] for st in states]).reshape(-1, 3)
+    spin = np.array([st.poses.rotation[w.part] @ w.spin_axis for st in states]).reshape(-1, 3)
+    return contact_point(centre, spin, w.loaded_radius_mm, model.suspension.up)
+
+
 def wheel_state(model: SuspensionModel, state: ModelState, side: str,
-                displacement_control: bool, roll: bool = False) -> StepState:
+                displacement_control: bool, roll: bool = False,
+                contact: np.ndarray | None = None) -> StepState:
     """The rig's view of a solved model state for the wheel on ``side``: wheel centre
     (recorded point), spin axis and rotation from the wheel part's pose, the contact point
     from both (the wheel's lowest point,
     :func:`~elastokin.physics.steering_geometry.contact_point`, where the pad holds and loads
-    the wheel); the pad force (applied, plus the pad's vertical reaction under displacement
-    control)."""
+    the wheel; ``contact`` when computed already, :func:`contact_points`); the pad force
+    (applied, plus the pad's vertical reaction under displacement control)."""
     s = model.suspension
     w = s.wheels[side]
     n = names(side)
@@ -299,7 +313,9 @@ def wheel_state(model: SuspensionModel, state: ModelState, side: str,
     derivatives = None if sens is None else {
         "wheel_centre_mm": sens.points[n["centre"]],
         "spin_axis": np.einsum("abp,b->ap", sens.rotation[w.part], w.spin_axis)}
-    return StepState(centre, spin, R, contact_point(centre, spin, w.loaded_radius_mm, s.up),
-                     pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
+    if contact is None:
+        contact = contact_point(centre, spin, w.loaded_radius_mm, s.up)
+    return StepState(centre, spin, R, contact, pad, state.spring_force_N,
+                     state.bushing_deflection, state.bushing_load,
                      poses if model.options.part_poses else None, derivatives,
                      state.scalars, state.loads)
