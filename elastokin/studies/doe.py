@@ -23,7 +23,7 @@ from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError, SolverError
-from elastokin.mbs.design import build_model, design_state, settle_by_continuation
+from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import NO_LOADS
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.characteristics import summary_figures
@@ -41,7 +41,7 @@ from elastokin.studies.doe_sampling import (
     shifts_mm,
     unit_samples,
 )
-from elastokin.synthetic.virtual_cmm import as_built
+from elastokin.synthetic.virtual_cmm import as_built, as_built_by_continuation
 
 #: ``all``: every load case of the config's rig; ``travel``: parallel wheel travel only
 LOAD_CASES = ("all", "travel")
@@ -95,19 +95,12 @@ def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design
     return build_model(as_built(suspension, shifts, design).variant(), NO_LOADS)
 
 
-#: fractions of the clearance shifts solved in turn when a sample's direct solve fails
-CONTINUATION = (0.25, 0.5, 0.75, 1.0)
-
-
 def as_built_model_by_continuation(suspension: Suspension, shifts: dict[str, np.ndarray],
                                    design):
     """:func:`as_built_model`, started from its settled state, reached by continuation from
-    the nominal geometry through :data:`CONTINUATION` fractions of the shifts: a large
-    clearance shift of a stiff bushing (J2, 13000 N/mm, shifted 0.69 mm: 9 kN out of balance
-    at the design position) is too far from equilibrium for Newton's first step."""
-    models = [as_built_model(suspension, {k: f * np.asarray(v, float) for k, v in shifts.items()},
-                             design) for f in CONTINUATION]
-    return settle_by_continuation(models)
+    the nominal geometry
+    (:func:`~elastokin.synthetic.virtual_cmm.as_built_by_continuation`)."""
+    return as_built_by_continuation(suspension, shifts, design, NO_LOADS)
 
 
 def travel_sweep(model, label: str = "sample", spec=None, static=None):
