@@ -12,7 +12,8 @@ camber compliance in phase and the braking-force toe compliance (compliance matr
 Writes ``benchmarks/results/beam_refinement.json`` and the chart
 ``docs/images/twist_beam_refinement.png`` (relative error against elements per segment,
 log-log, with the cost per step), and prints the table of docs/beams.md. ``--quick``: 1 and 2
-elements per segment on a rig of few steps, nothing written but the JSON to ``--out``.
+elements per segment on a rig of few steps, nothing written but the JSON (bench_common: into
+the temporary folder unless ``--out``). Through elastokin's public API only (``ek.run_kc``).
 """
 
 from __future__ import annotations
@@ -21,15 +22,17 @@ import argparse
 import copy
 import json
 import os
+import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from elastokin.config.loading import read_yaml, suspension_from_dict
-from elastokin.studies.kc_job import run_kc
-from elastokin.version import __version__
+import elastokin as ek
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import RESULTS, add_output_options, output_path, write_json  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "configs" / "twist_beam_axle.yaml"
@@ -67,15 +70,15 @@ def figures(summary: dict) -> dict[str, float | None]:
 
 def run(elements: int, quick: bool) -> dict:
     """The characteristics and the cost of one mesh."""
-    data = copy.deepcopy(read_yaml(CONFIG)[0])
+    data = copy.deepcopy(ek.load_suspension(CONFIG).raw)  # the config as editable data
     data["parts"]["cross_beam"]["beam"]["elements_per_segment"] = elements
     if quick:
         data["rig"] = QUICK_RIG
-    s = suspension_from_dict(data, str(CONFIG.relative_to(ROOT)))
+    s = ek.suspension_from_dict(data, str(CONFIG.relative_to(ROOT)))
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a rear axle: no steering axis
-        result = run_kc(s, models=["initial"])
+        result = ek.run_kc(s, models=["initial"])
     seconds = time.perf_counter() - t0
     model = result.models["initial"]
     steps = sum(sw.steps for sw in model.sweeps)
@@ -126,7 +129,7 @@ def chart(rows: list[dict], reference: dict[str, float], shipped: int, path: Pat
     cost.grid(True, alpha=0.3)
     fig.legend(*ax.get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8,
                frameon=False, bbox_to_anchor=(0.5, 0.04))
-    fig.text(0.01, 0.01, f"elastokin {__version__}; configs/twist_beam_axle.yaml; model "
+    fig.text(0.01, 0.01, f"elastokin {ek.__version__}; configs/twist_beam_axle.yaml; model "
              "initial; converged value: Richardson extrapolation of 16 and 32 (h^2)",
              fontsize=7, color="#555555")
     fig.tight_layout(rect=(0, 0.2, 1, 1))
@@ -151,37 +154,38 @@ def table(rows: list[dict], reference: dict[str, float]) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="two coarse meshes, a short rig")
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"
-                                         / "beam_refinement.json"))
+    add_output_options(ap, "beam_refinement")
     ap.add_argument("--chart", default=str(ROOT / "docs" / "images"
                                            / "twist_beam_refinement.png"))
     ap.add_argument("--replot", action="store_true",
-                    help="draw the chart and print the table of the JSON at --out, no runs")
-    args = ap.parse_args()
+                    help="draw the chart and print the table of the JSON at --out (default "
+                         "the committed results), no runs")
+    args = ap.parse_args(argv)
     if args.replot:
-        result = json.loads(Path(args.out).read_text())
+        result = json.loads(Path(args.out or RESULTS / "beam_refinement.json").read_text())
         rows, reference = result["meshes"], result["converged"]
     else:
+        out = output_path(args, "beam_refinement")
         meshes = (1, 2) if args.quick else MESHES
         load_before = os.getloadavg()
         rows = [run(n, args.quick) for n in meshes]
         reference = converged(rows)
-        result = {"elastokin_version": __version__, "config": str(CONFIG.relative_to(ROOT)),
-                  "quick": args.quick, "load_average_before": load_before,
-                  "load_average_after": os.getloadavg(), "converged": reference,
-                  "meshes": rows}
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+        result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
+                  "config": str(CONFIG.relative_to(ROOT)), "quick": args.quick,
+                  "load_average_before": load_before, "load_average_after": os.getloadavg(),
+                  "converged": reference, "meshes": rows}
+        write_json(out, result)
     print(table(rows, reference))
     if not args.quick:
-        shipped = read_yaml(CONFIG)[0]["parts"]["cross_beam"]["beam"]["elements_per_segment"]
+        shipped = ek.load_suspension(CONFIG).raw["parts"]["cross_beam"]["beam"][
+            "elements_per_segment"]
         chart(rows, reference, shipped, Path(args.chart))
         print(f"chart: {args.chart}")
     if not args.replot:
-        print(f"written to {args.out}")
+        print(f"written to {out}")
+    return result
 
 
 if __name__ == "__main__":

@@ -4,15 +4,19 @@ A benchmark writes ``benchmarks/results/<name>.json`` (committed: the figures th
 quotes). ``--quick`` runs every stage of the script on the smallest inputs, in seconds (the
 test suite runs each script so, tests/test_benchmarks.py): its figures mean nothing, so it
 writes into the temporary folder (``--out`` elsewhere is fine) and never into
-``benchmarks/results``.
+``benchmarks/results``. And two things the K&C benchmarks do through elastokin's public API:
+every load case of a model on both wheels, and a K&C run with a recorded field dropped.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import tempfile
 from pathlib import Path
+
+import elastokin as ek
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -45,3 +49,28 @@ def output_path(args: argparse.Namespace, name: str) -> Path:
 def write_json(path: Path, doc: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(doc, indent=2) + "\n")
+
+
+def load_cases_by_side(model, label: str) -> dict[str, list]:
+    """Every load case of ``model``'s rig on every wheel, as ``elastokin kc`` runs them (the
+    static state solved once, then each drive): side -> sweeps (the config side's first)."""
+    s = model.suspension
+    static = ek.static_states(model)
+    out: dict[str, list] = {side: [] for side in s.sides}
+    for d in ek.drives(s, kinematic=s.kinematic):
+        for sw in ek.run_drive_sides(model, label, d, static=static):
+            out[sw.side].append(sw)
+    return out
+
+
+def without(run, field: str):
+    """The K&C run ``run`` (:func:`elastokin.run_kc`) with ``field`` of every sweep dropped
+    (``"loads"``, ``"poses"``: None, as when a model does not record it): what
+    :func:`elastokin.write_kc_results` writes without it."""
+    def drop(sweeps):
+        return [dataclasses.replace(sw, **{field: None}) for sw in sweeps]
+
+    models = {label: dataclasses.replace(m, sweeps=drop(m.sweeps), other_sides={
+        side: drop(sweeps) for side, sweeps in m.other_sides.items()})
+        for label, m in run.models.items()}
+    return dataclasses.replace(run, models=models)

@@ -2,38 +2,37 @@
 
 - ``optimize``: the shipped six-point case (configs/targets/double_wishbone_six_points.yaml on
   configs/rigs/travel_only.yaml) solved twice with the same SLSQP formulation: on the exact
-  gradients (``elastokin optimize``) and on central finite differences of full model runs
-  (2 n + 1 runs per gradient). Each is counted in **model-run equivalents**: its CPU time over
-  that of one plain run of the same load cases (same process, same machine). Target: the
-  exact gradients at least 10x fewer.
-- ``sensitivity``: the hardpoint sensitivity table of both shipped configs (every hardpoint
-  coordinate, the table's load cases), in model-run equivalents against the 2 n + 1 runs of
-  central differences.
+  gradients (``ek.run_optimize``, what ``elastokin optimize`` runs: the targets read, the
+  optimiser and the verifying plain run) and on central finite differences of full model
+  runs (2 n + 1 runs per gradient, each ``ek.evaluate_targets`` without derivatives). Each is
+  counted in **model-run equivalents**: its CPU time over that of one plain run of the same
+  load cases (same process, same machine). Target: the exact gradients at least 10x fewer.
+- ``sensitivity``: the hardpoint sensitivity table of both shipped configs
+  (``ek.sensitivity_table``: every hardpoint coordinate, the table's load cases), in
+  model-run equivalents against the 2 n + 1 runs of central differences.
 - ``--quick`` (run by the tests): the one-variable tie-rod case and the case study's table on
-  +-10 mm of travel, for the same figures in seconds.
+  +-10 mm of travel, for the same figures in seconds (bench_common).
 
 Writes ``benchmarks/results/bench_design.json`` (``--out``). CPU time of this process (the
-model runs are serial).
+model runs are serial). Through elastokin's public API only (the runs before issue 24's item
+6 timed the optimiser without its verifying run: one plain run fewer in ``exact``).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import platform
+import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from elastokin.cli.design import nominal_suspension
-from elastokin.formats.targets import load_targets
-from elastokin.mbs.model import EXUDYN_VERSION
-from elastokin.studies.design_job import optimise, start
-from elastokin.studies.design_runs import run_design
-from elastokin.studies.design_targets import needs_compliance, target_rig, target_values
-from elastokin.studies.sensitivity_table import TABLE_LOAD_CASES, sensitivity_table
-from elastokin.version import __version__
+import elastokin as ek
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import add_output_options, output_path, write_json  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 QUICK_RIG = ("parallel_travel: {rebound_mm: -1, bump_mm: 1, step_mm: 0.25, unloading: false}"
@@ -55,23 +54,27 @@ def cpu() -> float:
 
 def plain_run_cpu(s, targets, x, repeat: int = 3) -> float:
     """CPU seconds of one plain run (no derivatives) of the targets' model and load cases."""
-    rig, label = target_rig(s, targets), targets.spec.model
     best = np.inf
     for _ in range(repeat):
         t = cpu()
-        run_design(s, targets.variables, x, (label,), rig, derivatives=False,
-                   compliance=needs_compliance(targets))
+        ek.evaluate_targets(s, targets, x, derivatives=False)
         best = min(best, cpu() - t)
     return best
 
 
+def scales(targets) -> np.ndarray:
+    """The variables' scales as ``elastokin optimize`` takes them: half the width of their
+    bounds, or 10 of their unit when a bound is open."""
+    return np.array([(v.upper - v.lower) / 2 if np.isfinite(v.upper - v.lower) else 10.0
+                     for v in targets.variables])
+
+
 def fd_optimise(s, targets) -> dict:
-    """The same SLSQP problem as :func:`elastokin.studies.design_job.optimise` with central
-    finite differences of full runs for every gradient."""
+    """The same SLSQP problem as ``ek.run_optimize`` with central finite differences of full
+    runs for every gradient."""
     from scipy.optimize import minimize
 
-    rig, label = target_rig(s, targets), targets.spec.model
-    x0, half = start(s, targets)
+    x0, half = np.array([v.value(s.raw) for v in targets.variables]), scales(targets)
     runs = [0]
     cache: dict = {}
 
@@ -79,9 +82,7 @@ def fd_optimise(s, targets) -> dict:
         key = np.asarray(u, float).tobytes()
         if key not in cache:
             runs[0] += 1
-            run = run_design(s, targets.variables, x0 + half * u, (label,), rig,
-                             derivatives=False, compliance=needs_compliance(targets))
-            cache[key] = target_values(run, targets, label, derivatives=False)
+            cache[key] = ek.evaluate_targets(s, targets, x0 + half * u, derivatives=False)[1]
         return cache[key]
 
     def grads(u):
@@ -105,19 +106,28 @@ def fd_optimise(s, targets) -> dict:
             "message": str(res.message)}
 
 
+def shown(path: Path) -> str:
+    """A path as the JSON records it: relative to the repository when inside it."""
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
+def nominal(config: Path, rig: Path | None):
+    """The config's own design on ``rig`` (as ``elastokin optimize`` and ``sensitivity``)."""
+    return ek.nominal(ek.load_suspension_with_rig(config, rig))
+
+
 def optimize_case(config: Path, targets_path: Path, rig: Path) -> dict:
-    s = nominal_suspension(config, rig)
-    targets = load_targets(targets_path, s)
-    x0 = start(s, targets)[0]
-    one = plain_run_cpu(s, targets, x0)
+    s = nominal(config, rig)
+    targets = ek.load_targets(targets_path, s)
+    one = plain_run_cpu(s, targets, None)
     t = cpu()
-    exact = optimise(s, targets)
+    exact = ek.run_optimize(s, targets_path)
     exact_cpu = cpu() - t
     t = cpu()
     fd = fd_optimise(s, targets)
     fd_cpu = cpu() - t
     out = {
-        "config": str(config.relative_to(ROOT)), "targets": str(targets_path),
+        "config": shown(config), "targets": shown(targets_path),
         "variables": len(targets.variables), "plain_run_cpu_s": one,
         "exact": {"cpu_s": exact_cpu, "model_runs_with_derivatives": exact.model_runs,
                   "model_run_equivalents": exact_cpu / one, "met": exact.best_values.met,
@@ -130,40 +140,38 @@ def optimize_case(config: Path, targets_path: Path, rig: Path) -> dict:
 
 
 def sensitivity_case(config: Path, rig: Path | None) -> dict:
-    s = nominal_suspension(config, rig)
+    s = nominal(config, rig)
     t = cpu()
-    tab = sensitivity_table(s)
+    tab = ek.sensitivity_table(s)
     table_cpu = cpu() - t
+    cases = {sw.load_case for sw in tab.run.models[tab.label].sweeps}  # the table's
     rig_spec = s.rig.model_copy(update={n: None for n in type(s.rig).model_fields
-                                        if n != "parallel_travel" and n not in
-                                        TABLE_LOAD_CASES})
+                                        if n not in cases})
     best = np.inf
     for _ in range(2):
         t = cpu()
-        run_design(s, [], [], ("initial",), rig_spec, derivatives=False)
+        ek.run_design(s, [], [], (tab.label,), rig_spec, derivatives=False)
         best = min(best, cpu() - t)
     n = len(tab.variables)
-    return {"config": str(config.relative_to(ROOT)), "coordinates": n,
-            "characteristics": len(tab.characteristics), "cpu_s": table_cpu,
-            "plain_run_cpu_s": best, "model_run_equivalents": table_cpu / best,
-            "finite_difference_runs": 2 * n + 1,
+    return {"config": shown(config), "coordinates": n,
+            "characteristics": len(tab.characteristics), "load_cases": sorted(cases),
+            "cpu_s": table_cpu, "plain_run_cpu_s": best,
+            "model_run_equivalents": table_cpu / best, "finite_difference_runs": 2 * n + 1,
             "fewer_equivalents": (2 * n + 1) / (table_cpu / best)}
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="the small cases (seconds)")
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_design.json"))
-    args = ap.parse_args()
+    add_output_options(ap, "bench_design")
+    args = ap.parse_args(argv)
+    out = output_path(args, "bench_design")
     dw, case = ROOT / "configs" / "double_wishbone_axle.yaml", \
         ROOT / "configs" / "pseudo_mcpherson.yaml"
-    result = {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
+    result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
               "machine": {"python": platform.python_version(),
                           "processor": platform.machine()},
               "quick": args.quick}
     if args.quick:
-        import tempfile
-
         with tempfile.TemporaryDirectory() as tmp:
             rig, targets = Path(tmp) / "rig.yaml", Path(tmp) / "targets.yaml"
             rig.write_text(QUICK_RIG)
@@ -188,8 +196,9 @@ def main() -> None:
               f"{t['model_run_equivalents']:.1f} model-run equivalents against "
               f"{t['finite_difference_runs']} for central differences: "
               f"{t['fewer_equivalents']:.1f}x fewer")
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
+    write_json(out, result)
+    print(f"written to {out}")
+    return result
 
 
 if __name__ == "__main__":

@@ -1,21 +1,26 @@
 """The cost of recording loads (issue 27): every element's force and moment at every step.
 
 For each suspension, in one run on this machine, the same model built twice (the same design
-preloads): with the loads recorded (``ModelOptions.record_loads``, what ``elastokin kc``
-does) and without; every load case of its rig run on both, alternately, best of ``--repeat``
-(:func:`elastokin.rig.load_cases.run_load_cases_sides`: the solves, every channel of both
-wheels, and with loads the sensors and their numpy pass). Then what the loads add to the
-files: loads.csv, the largest-loads chart and the report's Loads section, timed on the
-recorded run. The cost of recording against the whole ``elastokin kc`` run (``kc_s``, the
-command as a user runs it on the same rig, a subprocess into a new folder: no cache):
-``fraction_of_kc`` = (the extra load-case time times the models that record loads + the
-files') / kc_s, an upper bound (a kinematic model runs fewer cases); target under 0.10.
+preloads, ``ek.design_state``): with the loads recorded (``ek.ModelOptions(record_loads=
+True)``, what ``elastokin kc`` does) and without; every load case of its rig run on both,
+alternately, best of ``--repeat`` (``ek.run_drive_sides`` of every ``ek.drives``: the solves,
+every channel of both wheels, and with loads the sensors and their numpy pass). Then what the
+loads add to the files (``loads_files_s``): ``ek.write_kc_results`` of a K&C run of the same
+rig (``ek.run_kc``, the models with loads) against the same run with the loads dropped from
+its sweeps (no loads.csv, no largest-loads chart, no Loads section, no loads in the view),
+alternately, best of ``--repeat``. The cost of recording against the whole ``elastokin kc``
+run (``kc_s``, the command as a user runs it on the same rig, a subprocess into a new folder:
+no cache): ``fraction_of_kc`` = (the extra load-case time times the models that record loads +
+the files') / kc_s, an upper bound (a kinematic model runs fewer cases); target under 0.10.
+Through elastokin's public API only: the split of the files' time into loads.csv, the chart
+and the report's section (``loads_csv_s``, ``summary_and_chart_s``, ``report_section_s`` in
+runs before issue 24's item 6) could only be timed through the report's internals.
 
 The sweeps with and without loads are checked identical (recording changes no number).
 Suspensions: the shipped double wishbone axle (rack, anti-roll bar, stops) with its rig and the
 static loads of ``configs/rigs/vehicle_loads.yaml``, and the case study
 (configs/pseudo_mcpherson.yaml). ``--quick``: the double wishbone only, a short rig, one
-repeat, no kc run (what the tests run: seconds).
+repeat, one model, no kc run (what the tests run: seconds; bench_common).
 
 Prints the figures and writes ``benchmarks/results/bench_loads.json`` (``--out``), with the
 machine's load average before and after.
@@ -36,11 +41,16 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
-from elastokin.mbs.design import build_model, design_state
-from elastokin.mbs.model import EXUDYN_VERSION, ModelOptions
-from elastokin.rig.load_cases import run_load_cases_sides
-from elastokin.version import __version__
+import elastokin as ek
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import (  # noqa: E402
+    add_output_options,
+    load_cases_by_side,
+    output_path,
+    without,
+    write_json,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 DW = ROOT / "configs" / "double_wishbone_axle.yaml"
@@ -64,16 +74,14 @@ MODELS = {"double_wishbone_axle": 2, "case_study": 3}
 
 def suspensions(quick: bool, folder: Path) -> dict:
     """The suspensions timed: name -> (Suspension, the rig file kc runs it with or None)."""
-    dw = read_yaml(DW)[0]
     if quick:
-        return {"double_wishbone_axle": (suspension_from_dict({**dw, "rig": QUICK_RIG},
-                                                              str(DW)), None)}
-    rig = {**dw["rig"], "vehicle_loads": read_yaml(VEHICLE_RIG)[0]["vehicle_loads"]}
+        return {"double_wishbone_axle": (ek.load_suspension(DW, {"rig": QUICK_RIG}), None)}
+    rig = {**ek.load_suspension(DW).raw["rig"],
+           "vehicle_loads": ek.load_rig(VEHICLE_RIG)["vehicle_loads"]}
     rig_file = folder / "dw_rig.yaml"
     rig_file.write_text(json.dumps(rig))
-    return {"double_wishbone_axle": (suspension_from_dict({**dw, "rig": rig}, str(DW)),
-                                     rig_file),
-            "case_study": (load_suspension(CASE), None)}
+    return {"double_wishbone_axle": (ek.load_suspension_with_rig(DW, rig_file), rig_file),
+            "case_study": (ek.load_suspension(CASE), None)}
 
 
 def same_sweeps(a: dict, b: dict) -> bool:
@@ -93,49 +101,51 @@ def same_sweeps(a: dict, b: dict) -> bool:
 
 def load_case_times(s, repeat: int) -> dict:
     """Every load case run with and without loads, alternately: best times and checks."""
-    design = design_state(s)
-    models = {rec: build_model(s, ModelOptions(record_loads=rec), design)
+    design = ek.design_state(s)
+    models = {rec: ek.build_model(s, ek.ModelOptions(record_loads=rec), design)
               for rec in (False, True)}
-    runs = {rec: run_load_cases_sides(m, "bench") for rec, m in models.items()}  # warm up
+    runs = {rec: load_cases_by_side(m, "bench") for rec, m in models.items()}  # warm up
     best = {False: float("inf"), True: float("inf")}
     for _ in range(repeat):
         for rec, model in models.items():
             t0 = time.perf_counter()
-            runs[rec] = run_load_cases_sides(model, "bench")
+            runs[rec] = load_cases_by_side(model, "bench")
             best[rec] = min(best[rec], time.perf_counter() - t0)
     steps = sum(sw.steps for sw in runs[True][s.side])
     return {"steps": steps, "without_loads_s": best[False], "with_loads_s": best[True],
             "extra_s": best[True] - best[False],
             "extra_fraction": (best[True] - best[False]) / best[False],
             "identical_numbers": same_sweeps(runs[False], runs[True]),
-            "elements": len(runs[True][s.side][0].loads.items)}, runs[True]
+            "elements": len(runs[True][s.side][0].loads.items)}
 
 
-def file_times(s, runs: dict, folder: Path) -> dict:
-    """loads.csv, the largest-loads chart and the Loads section from one model's run."""
-    from elastokin.report.chart_canvas import ChartCanvas, save_chart
-    from elastokin.report.files import config_provenance
-    from elastokin.report.html_loads import loads_section
-    from elastokin.report.load_charts import draw_load_chart, load_chart_data
-    from elastokin.report.loads_csv import write_loads_csv
-    from elastokin.rig.loads import load_summary
-    from elastokin.studies.kc_job import ModelResult
-
-    result = ModelResult("initial", False, runs[s.side], {})
-    prov = config_provenance(s)
-    canvas = ChartCanvas()
-    canvas.axes("bars")  # matplotlib imported and the figure made, as in a kc run's charts
-    t0 = time.perf_counter()
-    write_loads_csv(folder / "loads.csv", {"initial": result}, prov)
-    t1 = time.perf_counter()
-    summary = {"models": {"initial": load_summary(result.sweeps)}}
-    data = load_chart_data(summary)
-    save_chart(draw_load_chart(canvas, data, prov), folder / "largest_loads.png")
-    t2 = time.perf_counter()
-    loads_section(summary, [folder / "largest_loads.png"], 1)
-    t3 = time.perf_counter()
-    return {"loads_csv_s": t1 - t0, "loads_csv_bytes": (folder / "loads.csv").stat().st_size,
-            "summary_and_chart_s": t2 - t1, "report_section_s": t3 - t2}
+def file_times(s, repeat: int, folder: Path, quick: bool = False) -> dict:
+    """``ek.write_kc_results`` of the K&C run of ``s`` with its loads and with them dropped,
+    alternately, best of ``repeat``: what the loads add to the files (loads.csv, the
+    largest-loads chart, the report's Loads section and the view's loads). ``quick``: one
+    model, no warm-up write."""
+    run = ek.run_kc(s, models=["initial"] if quick else None)
+    runs = {True: run, False: without(run, "loads")}
+    best = {True: float("inf"), False: float("inf")}
+    for name in ("with_loads", "without_loads"):
+        (folder / name).mkdir(parents=True)
+    if not quick:
+        ek.write_kc_results(runs[True], folder / "with_loads")  # warm up: imports, fonts
+    for _ in range(repeat):
+        for loads, r in runs.items():
+            out = folder / ("with_loads" if loads else "without_loads")
+            t0 = time.perf_counter()
+            ek.write_kc_results(r, out)
+            best[loads] = min(best[loads], time.perf_counter() - t0)
+    written = folder / "with_loads"
+    return {"models": len(run.models), "write_results_s": best[True],
+            "write_results_without_loads_s": best[False],
+            "loads_files_s": best[True] - best[False],
+            "loads_csv_bytes": (written / "loads.csv").stat().st_size,
+            "load_chart_bytes": (written / "largest_loads.png").stat().st_size,
+            "report_bytes": (written / "report.html").stat().st_size,
+            "report_without_loads_bytes": (folder / "without_loads" / "report.html").stat()
+            .st_size}
 
 
 def kc_seconds(config: Path, rig: Path | None, folder: Path) -> float:
@@ -151,23 +161,22 @@ def kc_seconds(config: Path, rig: Path | None, folder: Path) -> float:
 def run(quick: bool = False, repeat: int = 3) -> dict:
     """Every figure of the benchmark (module docstring)."""
     load_before = os.getloadavg()
+    repeat = 1 if quick else repeat
     figures = {}
     with warnings.catch_warnings(), tempfile.TemporaryDirectory() as tmp:
         warnings.simplefilter("ignore")  # e.g. an undefined steering axis at a step
         for name, (s, rig) in suspensions(quick, Path(tmp)).items():
-            times, recorded = load_case_times(s, 1 if quick else repeat)
-            files = file_times(s, recorded, Path(tmp))
-            entry = {**times, **files}
+            entry = {**load_case_times(s, repeat), **file_times(s, repeat, Path(tmp) / name,
+                                                                    quick)}
             if not quick:
-                entry["kc_s"] = kc_seconds(Path(s.source), rig, Path(tmp) / name)
-                entry["fraction_of_kc"] = (MODELS[name] * max(times["extra_s"], 0.0)
-                                           + files["loads_csv_s"]
-                                           + files["summary_and_chart_s"]) / entry["kc_s"]
+                entry["kc_s"] = kc_seconds(Path(s.source), rig, Path(tmp) / name / "kc")
+                entry["fraction_of_kc"] = (MODELS[name] * max(entry["extra_s"], 0.0)
+                                           + max(entry["loads_files_s"], 0.0)) / entry["kc_s"]
             figures[name] = entry
-    return {"elastokin_version": __version__, "exudyn_version": EXUDYN_VERSION,
+    return {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
             "machine": {"python": platform.python_version(), "processor": platform.machine(),
                         "cpus": os.cpu_count()},
-            "quick": quick, "repeat": 1 if quick else repeat, "target_fraction_of_kc": 0.10,
+            "quick": quick, "repeat": repeat, "target_fraction_of_kc": 0.10,
             "load_average_before": load_before, "load_average_after": os.getloadavg(),
             "suspensions": figures}
 
@@ -175,21 +184,21 @@ def run(quick: bool = False, repeat: int = 3) -> dict:
 def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--quick", action="store_true", help="one short case, no kc run")
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_loads.json"))
+    add_output_options(ap, "bench_loads")
     args = ap.parse_args(argv)
+    out = output_path(args, "bench_loads")
     result = run(args.quick, args.repeat)
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    write_json(out, result)
     for name, f in result["suspensions"].items():
         kc = (f" of kc {f['kc_s']:.2f} s: {100 * f['fraction_of_kc']:.1f} %"
               if "kc_s" in f else "")
         print(f"{name}: {f['steps']} steps, {f['elements']} elements; load cases "
               f"{f['without_loads_s']:.3f} s -> {f['with_loads_s']:.3f} s "
-              f"(+{100 * f['extra_fraction']:.1f} %), loads.csv {f['loads_csv_s']:.3f} s, "
-              f"chart {f['summary_and_chart_s']:.3f} s{kc}; identical numbers: "
+              f"(+{100 * f['extra_fraction']:.1f} %); the files of {f['models']} models "
+              f"{f['write_results_without_loads_s']:.3f} s -> {f['write_results_s']:.3f} s "
+              f"(loads.csv {f['loads_csv_bytes'] / 1e6:.1f} MB){kc}; identical numbers: "
               f"{f['identical_numbers']}")
-    print(f"written to {args.out}")
+    print(f"written to {out}")
     return result
 
 

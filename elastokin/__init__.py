@@ -48,6 +48,7 @@ _API = {
     "with_joint_shifts": "elastokin.config.variants",
     "corner": "elastokin.config.variants",
     "rigid_beams": "elastokin.config.variants",
+    "nominal": "elastokin.config.design_variables",
     # models
     "build_model": "elastokin.mbs.design",
     "design_state": "elastokin.mbs.design",
@@ -71,6 +72,9 @@ _API = {
     # identification and studies
     "identify_geometry": "elastokin.studies.identification",
     "identify_motion": "elastokin.identification.motion.identify",
+    "motion_grid_positions": "elastokin.studies.motion_study",
+    "motion_position_study": "elastokin.studies.motion_study",
+    "disassembly_errors": "elastokin.studies.motion_study",
     "identify_stiffness": "elastokin.identification.stiffness",
     "run_kc": "elastokin.studies.kc_job",
     "run_kc_from_identification": "elastokin.studies.kc_job",
@@ -90,9 +94,11 @@ _API = {
     "load_targets": "elastokin.formats.targets",
     "run_design": "elastokin.studies.design_runs",
     "run_optimize": "elastokin.studies.design_job",
+    "evaluate_targets": "elastokin.studies.design_job",
     "sensitivity_table": "elastokin.studies.sensitivity_table",
     # the whole car
     "load_vehicle": "elastokin.config.vehicle",
+    "is_vehicle_file": "elastokin.config.vehicle",
     "run_vehicle": "elastokin.studies.vehicle_job",
     "run_vehicle_from_axles": "elastokin.studies.vehicle_job",
     "VehicleRun": "elastokin.studies.vehicle_job",
@@ -102,6 +108,7 @@ _API = {
     "draw_kc_charts": "elastokin.report.charts",
     "write_vehicle_results": "elastokin.report.vehicle_files",
     "read_vehicle_results": "elastokin.report.vehicle_files",
+    "draw_motion_positions_chart": "elastokin.report.motion_charts",
     # provenance
     "exudyn_version": "elastokin.version",
 }

@@ -1,10 +1,10 @@
-"""The K&C benchmarks run (their quick mode, benchmarks/bench_common.py) and use only
-elastokin's public names: the API (``import elastokin as ek``: ``elastokin.__all__``) and the
-command line (``elastokin.cli``). A benchmark that reached into elastokin's modules broke
-unnoticed (bench_doe.py's profile: KeyError 'knuckle_right'); one that no longer runs now
-fails here. The quick runs write into a temporary folder, never into benchmarks/results.
-No benchmark script uses a private (underscore) name of elastokin (the beam and motion
-studies' scripts, whose quick modes their own tests run, included)."""
+"""Every benchmark script uses only elastokin's public names: the API (``import elastokin as
+ek``: ``elastokin.__all__``) and the command line (``elastokin.cli``). A benchmark that reached
+into elastokin's modules broke unnoticed (bench_doe.py's profile: KeyError 'knuckle_right').
+Every script has a quick mode (benchmarks/bench_common.py) that one test runs, exactly one:
+the K&C benchmarks' here, the others' beside the feature they measure (QUICK_ELSEWHERE), so a
+benchmark that no longer runs fails CI. Quick runs write into a temporary folder, never into
+benchmarks/results."""
 
 import ast
 import json
@@ -16,10 +16,16 @@ import pytest
 import elastokin
 
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+#: every benchmark script (bench_common.py: what they share, no benchmark of its own)
 ALL_SCRIPTS = sorted(p for p in BENCHMARKS.glob("*.py") if p.name != "bench_common.py")
-#: the K&C benchmarks (README "Benchmarks"): the public API only, a quick mode run here
+#: the K&C benchmarks (README "Benchmarks"), their quick mode run here
 SCRIPTS = [BENCHMARKS / name for name in ("bench_axle.py", "bench_doe.py", "bench_kc.py",
                                           "steer_amplitude.py")]
+#: the test file that runs each other script's quick mode (with checks of its own figures)
+QUICK_ELSEWHERE = {"beam_refinement.py": "test_twist_beam.py",
+                   "bench_design.py": "test_benchmarks_design.py",
+                   "bench_loads.py": "test_loads.py", "bench_view.py": "test_view.py",
+                   "motion_positions.py": "test_motion_case.py"}
 RESULTS = BENCHMARKS / "results"
 
 
@@ -44,15 +50,32 @@ def elastokin_uses(path: Path) -> list[str]:
     return bad
 
 
-@pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", [*ALL_SCRIPTS, BENCHMARKS / "bench_common.py"],
+                         ids=lambda p: p.stem)
 def test_benchmarks_use_public_names_only(path):
     assert elastokin_uses(path) == []
 
 
+def test_every_quick_mode_is_run_by_one_test():
+    """Each script's quick mode: here or in the one test file QUICK_ELSEWHERE names, which
+    runs it with ``--quick``; no other test file names the script (a second run)."""
+    names = {p.name for p in ALL_SCRIPTS}
+    assert {p.name for p in SCRIPTS} | set(QUICK_ELSEWHERE) == names
+    assert not {p.name for p in SCRIPTS} & set(QUICK_ELSEWHERE)
+    tests = {p.name: p.read_text() for p in Path(__file__).parent.glob("test_*.py")
+             if p.name != Path(__file__).name}
+    for name in sorted(names):
+        naming = [f for f, text in tests.items() if name in text]
+        assert naming == ([QUICK_ELSEWHERE[name]] if name in QUICK_ELSEWHERE else []), name
+        if name in QUICK_ELSEWHERE:
+            assert "--quick" in tests[QUICK_ELSEWHERE[name]], name
+
+
 @pytest.mark.parametrize("path", ALL_SCRIPTS, ids=lambda p: p.stem)
-def test_no_benchmark_uses_a_private_name(path):
-    assert [u for u in elastokin_uses(path) if u.rpartition(".")[2].startswith("_")
-            and not u.endswith("__version__")] == []
+def test_a_quick_run_refuses_the_committed_results(path):
+    main = runpy.run_path(str(path), run_name="benchmark")["main"]
+    with pytest.raises(SystemExit, match="no committed result"):
+        main(["--quick", "--out", str(RESULTS / f"{path.stem}.json")])
 
 
 def test_the_check_sees_a_private_use(tmp_path):
@@ -78,5 +101,5 @@ def test_quick_mode_runs_and_leaves_the_committed_results(path, tmp_path):
     doc = json.loads(out.read_text())
     assert doc["quick"] is True and doc["elastokin_version"] == elastokin.__version__
     assert committed() == before
-    with pytest.raises(SystemExit, match="no committed result"):
-        main(["--quick", "--out", str(RESULTS / out.name)])
+    if path.name == "bench_kc.py":  # the static solver as before issue 28: the same results
+        assert doc["max_spin_axis_difference_before_issue28"] == 0.0

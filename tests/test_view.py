@@ -327,6 +327,7 @@ def test_benchmark_quick_mode(tmp_path):
         assert load["renderer_cpu_s"] > 0 and load["page_errors"] == []
     assert r["poses"]["with_poses_s"] > 0 and r["poses"]["ratio"] > 0
     assert r["beam_nodes"]["identical_columns"] and r["beam_nodes"]["nodes_recorded"] == 9
+    assert r["beam_nodes"]["nodes_recorded_without"] == 0  # ModelOptions(beam_nodes=False)
     assert report["full_bundle"]["plotly_js_bytes"] > report["plotly_js_bytes"]
     assert list(r["view"]) == ["double_wishbone_axle"]
 

@@ -126,16 +126,8 @@ def _study(out_dir: Path, marker: str, config_path: Path, rig_path: Path | None,
 
 def nominal_suspension(config_path: Path, rig_path: Path | None = None):
     """The config's nominal geometry: its own hardpoints, without its CMM and K&C test data
-    (a design study moves the design, not a measured car)."""
-    import dataclasses
-
+    (a design study moves the design, not a measured car; :func:`elastokin.nominal`)."""
+    from elastokin.config.design_variables import nominal
     from elastokin.config.loading import load_suspension_with_rig
 
-    s = load_suspension_with_rig(config_path, rig_path)
-    if s.measurements is None and s.kc_test is None:
-        return s
-    from elastokin.config.design_variables import design_suspension
-
-    bare = design_suspension(dataclasses.replace(
-        s, raw={**s.raw, "measurements": None, "kc_test": None}), [], [])
-    return dataclasses.replace(bare, measurements=None, kc_test=None)
+    return nominal(load_suspension_with_rig(config_path, rig_path))

@@ -252,3 +252,16 @@ def design_suspension(template: Suspension, variables: Sequence[DesignVariable],
     out = dataclasses.replace(out, rig=template.rig, rig_source=template.rig_source,
                               label=template.label)
     return kinematic(out) if template.kinematic else out
+
+
+def nominal(suspension: Suspension) -> Suspension:
+    """The config's own design, as a design study moves it: ``suspension`` without its CMM
+    measurements and K&C test data (its hardpoints as the config gives them, its rig, rig
+    file and kinematic setting kept; re-resolved). A suspension without either is returned
+    as it is. Units as in the config (mm, N, N*mm, deg)."""
+    if suspension.measurements is None and suspension.kc_test is None:
+        return suspension
+    bare = dataclasses.replace(suspension, raw={**suspension.raw, "measurements": None,
+                                                "kc_test": None})
+    return dataclasses.replace(design_suspension(bare, [], []), measurements=None,
+                               kc_test=None)

@@ -272,7 +272,7 @@ class SuspensionModel(Attachments):
         self.pose_refs = {name: self.ref[name] for name in recorded}  # shared, read-only
         #: the beam parts' node lines, their nodes' poses recorded with every part's
         lines = {p: b.record_line(self.sensors) for p, b in self.beams.items()} \
-            if self.options.part_poses else {}
+            if self.options.part_poses and self.options.beam_nodes else {}
         self.node_lines = {p: line for p, line in lines.items() if line}
 
     def _add_pose_sensors(self, name: str, number: int) -> None:

@@ -24,6 +24,10 @@ class ModelOptions:
         fit and its sensitivities, :mod:`elastokin.mbs.sensitivity`).
     record_loads: record the load of every element at every step (``ModelState.loads``,
         :mod:`elastokin.mbs.loads`); needs ``part_poses``.
+    beam_nodes: record every flexible beam's node poses at every step (the bent beam of
+        the 3D view, ``PoseSeries.node_mm``; mm, config frame); needs ``part_poses``. Off,
+        the view does not animate the beam's bending; no other number changes
+        (``benchmarks/bench_view.py`` times both).
     discontinuous_iterations: passes of the static solver's discontinuous iteration; None:
         one for a frictionless model (no item of it acts after a Newton step: issue 28, the
         same results), Exudyn's default otherwise; 5 is the set-up before issue 28
@@ -35,6 +39,7 @@ class ModelOptions:
     part_poses: bool = True
     parametric_bushings: tuple[str, ...] = ()
     record_loads: bool = True
+    beam_nodes: bool = True
     discontinuous_iterations: int | None = None
 
     @property

@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from elastokin.report.doe_charts import new_figure, save
+from elastokin.report.files import config_provenance
 
 #: the joints drawn (a ball joint's centre; the strut's point across its axis)
 JOINTS = ("J7", "J8", "tie_rod:J6", "tie_rod:J3", "strut")
@@ -24,10 +25,15 @@ def _errors(study: dict, plans: list[str], joint: str) -> list[float]:
     return out
 
 
-def positions_chart(doc: dict, out_dir: Path, provenance: dict, name: str = "motion_positions",
-                    svg: bool = False) -> list[Path]:
-    """Two panels: RMS error (mm) against the rig travel spread (the same grid of positions
-    scaled) and against the number of rig positions (the full spread)."""
+def draw_motion_positions_chart(doc: dict, out_dir: Path, suspension,
+                                name: str = "motion_positions", svg: bool = False
+                                ) -> list[Path]:
+    """The chart of a joints-from-motion positions study (``doc``: its plans from
+    :func:`elastokin.studies.motion_study.motion_position_study`, ``draws``, ``noise_mm``,
+    ``rack_per_travel`` and the plans of its ``spread_series`` and ``count_series``) into
+    ``out_dir/name.png`` (and ``.svg``), with ``suspension``'s provenance. Two panels: RMS
+    error (mm) against the rig travel spread (the same grid of positions scaled) and against
+    the number of rig positions (the full spread). Returns the files written."""
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
     study = doc["plans"]
@@ -60,4 +66,4 @@ def positions_chart(doc: dict, out_dir: Path, provenance: dict, name: str = "mot
     axes[0, 1].legend(fontsize=7, loc="upper right")
     fig.suptitle("Joints from motion: error against the spread and number of rig positions "
                  f"(CMM noise {doc['noise_mm']:g} mm, 95 %)", fontsize=9)
-    return save(fig, name, out_dir, provenance, svg)
+    return save(fig, name, out_dir, config_provenance(suspension), svg)

@@ -78,8 +78,8 @@ class _Evaluator:
     """Design runs at scaled points u, with derivatives, kept by point (SLSQP asks for the
     objective, the constraints and their gradients separately)."""
 
-    def __init__(self, template, targets, label, rig, x0, half, progress):
-        self.template, self.targets, self.label, self.rig = template, targets, label, rig
+    def __init__(self, template, targets, x0, half, progress):
+        self.template, self.targets = template, targets
         self.x0, self.half, self.progress = x0, half, progress
         self.kept: dict[bytes, tuple[DesignRun, TargetValues]] = {}
         self.history: list[Iteration] = []
@@ -95,9 +95,7 @@ class _Evaluator:
             self.progress(f"design run {len(self.history) + 1}: "
                           + ", ".join(f"{v.name}={xi:.4f}" for v, xi in
                                       zip(self.targets.variables, x)))
-            run = run_design(self.template, self.targets.variables, x, (self.label,),
-                             self.rig, compliance=needs_compliance(self.targets))
-            values = target_values(run, self.targets, self.label)
+            run, values = evaluate_targets(self.template, self.targets, x)
             self.kept[key] = (run, values)
             self.history.append(Iteration(len(self.history) + 1, x.tolist(),
                                           values.objective, values.violation))
@@ -127,6 +125,21 @@ class _Evaluator:
         return np.array(self(u)[1].jacobian * self.half[None, :])
 
 
+def evaluate_targets(suspension: Suspension, targets: Targets, values=None,
+                     derivatives: bool = True) -> tuple[DesignRun, TargetValues]:
+    """One design point of a study: the targets' model (``targets.spec.model``) with the
+    targets' variables at ``values`` (their units: mm, -, N/mm, N, mm/rev; None: the
+    config's own design) on the load cases the targets need. Returns the run and every
+    target at it: the objective, the constraints (``g >= 0``), a verdict per target and,
+    with ``derivatives``, their exact gradients per unit of each variable."""
+    x = start(suspension, targets)[0] if values is None else np.asarray(values, float)
+    label = targets.spec.model
+    run = run_design(suspension, targets.variables, x, (label,),
+                     target_rig(suspension, targets), derivatives=derivatives,
+                     compliance=needs_compliance(targets))
+    return run, target_values(run, targets, label, derivatives)
+
+
 # ------------------------------------------------------------------------------- the steps
 def targets_step(suspension: Suspension, path: str | Path) -> Targets:
     """Step ``targets``: the targets file read and checked against the config."""
@@ -149,9 +162,8 @@ def optimise(suspension: Suspension, targets: Targets, progress: Progress = _qui
 
     t0 = time.perf_counter()
     label = targets.spec.model
-    rig = target_rig(suspension, targets)
     x0, half = start(suspension, targets)
-    ev = _Evaluator(suspension, targets, label, rig, x0, half, progress)
+    ev = _Evaluator(suspension, targets, x0, half, progress)
     first_run, first = ev(np.zeros(x0.size))
     bounds = [((v.lower - x) / h, (v.upper - x) / h)
               for v, x, h in zip(targets.variables, x0, half)]
@@ -202,11 +214,9 @@ def verify(result: DesignResult, suspension: Suspension, decimals: int) -> Desig
     """Step ``verify``: a plain run (no derivatives) at the best values rounded as written
     (``decimals``), on the targets' load cases; the report's figures are this run's."""
     x = np.round(result.best.values, decimals)
-    run = run_design(suspension, result.variables, x, (result.label,),
-                     target_rig(suspension, result.targets), derivatives=False,
-                     compliance=needs_compliance(result.targets))
+    run, result.best_values = evaluate_targets(suspension, result.targets, x,
+                                               derivatives=False)
     result.best = run
-    result.best_values = target_values(run, result.targets, result.label, derivatives=False)
     result.met = result.best_values.met
     return run
 

@@ -20,7 +20,7 @@ from elastokin.config.variants import corner
 from elastokin.errors import MeasurementError
 from elastokin.identification.motion.identify import MotionIdentification, locate_joints
 from elastokin.studies.identification import identify_geometry
-from elastokin.synthetic.virtual_cmm import synthesize
+from elastokin.synthetic.virtual_cmm import CHI3_95, synthesize
 from elastokin.synthetic.virtual_motion import TrueMotion, measure, true_motion
 
 
@@ -96,7 +96,7 @@ def _rms_angle(axes: np.ndarray, reference: np.ndarray) -> float:
     return float(np.degrees(np.sqrt(np.mean(np.arccos(c) ** 2))))
 
 
-def grid_positions(travel_mm: float, rack_mm: float, levels: int,
+def motion_grid_positions(travel_mm: float, rack_mm: float, levels: int,
                    wheel_turns: tuple[float, ...] = (90.0, 180.0, 270.0)) -> dict[str, dict]:
     """A motion plan's positions: a ``levels`` x ``levels`` grid of wheel travel in
     [-travel_mm, travel_mm] and rack travel in [-rack_mm, rack_mm] (the design position at
@@ -121,12 +121,17 @@ def with_positions(suspension: Suspension, positions: dict[str, dict]) -> Suspen
     return suspension_from_dict(raw, suspension.source, suspension.sha256)
 
 
-def position_study(suspension: Suspension, plans: dict[str, dict[str, dict]], draws: int,
-                   seed: int, sigma_mm: float) -> dict[str, dict]:
-    """Each motion plan (name -> positions, :func:`grid_positions`) of the suspension's as-
-    built corner, ``draws`` draws of the CMM noise each: per plan and joint the RMS error
-    against the truth (mm; axes: deg) and the spread against the stated uncertainty; a plan
-    whose motion is too small to locate a joint keeps the message instead."""
+def motion_position_study(suspension: Suspension, plans: dict[str, dict[str, dict]],
+                          draws: int, seed: int, sigma_mm: float | None = None
+                          ) -> dict[str, dict]:
+    """Each motion plan (name -> positions, :func:`motion_grid_positions`) of the
+    suspension's as-built corner (its ``motion`` section's; the truth drawn from ``seed``),
+    ``draws`` draws of the CMM noise each (``sigma_mm`` per coordinate; None: the config's
+    ``motion.synthetic.noise_mm`` as the virtual CMM draws it): per plan and joint the RMS
+    error against the truth (mm; axes: deg) and the spread against the stated uncertainty;
+    a plan whose motion is too small to locate a joint keeps the message instead."""
+    if sigma_mm is None:
+        sigma_mm = suspension.motion.synthetic.noise_mm / CHI3_95
     union = {n: p for positions in plans.values() for n, p in positions.items()}
     everything = with_positions(suspension, union)
     true = true_motion(everything, np.random.default_rng(seed))
