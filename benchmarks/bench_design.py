@@ -13,14 +13,16 @@
 - ``--quick`` (run by the tests): the one-variable tie-rod case and the case study's table on
   +-10 mm of travel, for the same figures in seconds (bench_common).
 
-Writes ``benchmarks/results/bench_design.json`` (``--out``). CPU time of this process (the
-model runs are serial). Through elastokin's public API only (the runs before issue 24's item
-6 timed the optimiser without its verifying run: one plain run fewer in ``exact``).
+Writes ``benchmarks/results/bench_design.json`` (``--out``), with the machine's load average
+before and after. CPU time of this process (the model runs are serial). Through elastokin's
+public API only (the runs before issue 24's item 6 timed the optimiser without its verifying
+run: one plain run fewer in ``exact``).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import sys
 import tempfile
@@ -169,8 +171,8 @@ def main(argv: list[str] | None = None) -> dict:
         ROOT / "configs" / "pseudo_mcpherson.yaml"
     result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
               "machine": {"python": platform.python_version(),
-                          "processor": platform.machine()},
-              "quick": args.quick}
+                          "processor": platform.machine(), "cpus": os.cpu_count()},
+              "quick": args.quick, "load_average_before": os.getloadavg()}
     if args.quick:
         with tempfile.TemporaryDirectory() as tmp:
             rig, targets = Path(tmp) / "rig.yaml", Path(tmp) / "targets.yaml"
@@ -196,6 +198,7 @@ def main(argv: list[str] | None = None) -> dict:
               f"{t['model_run_equivalents']:.1f} model-run equivalents against "
               f"{t['finite_difference_runs']} for central differences: "
               f"{t['fewer_equivalents']:.1f}x fewer")
+    result["load_average_after"] = os.getloadavg()
     write_json(out, result)
     print(f"written to {out}")
     return result
