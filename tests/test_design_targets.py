@@ -191,7 +191,13 @@ def test_six_points_three_targets_checked_by_a_plain_kc(tmp_path):
     of the written config gives the same figures."""
     rig = write(tmp_path / "rig.yaml", "parallel_travel: {rebound_mm: -50, bump_mm: 50, "
                 "step_mm: 25, unloading: false}\nvertical_force: null\n")
-    targets = ROOT / "configs" / "targets" / "double_wishbone_six_points.yaml"
+    # the shipped targets, SLSQP stopped when its objective (start: 1) changes by less than
+    # 1e-5, not 1e-10: 17 model runs, not 35, every target then met with a third of its band
+    # to spare (the default polishes the objective deep inside the bands); the check against
+    # a plain kc does not depend on where it stops
+    shipped = ROOT / "configs" / "targets" / "double_wishbone_six_points.yaml"
+    targets = write(tmp_path / "targets.yaml",
+                    shipped.read_text() + "optimizer: {tolerance: 1.0e-5}\n")
     out = tmp_path / "opt"
     r = CliRunner().invoke(main, ["optimize", "--config", str(DW), "--targets", str(targets),
                                   "--rig", str(rig), "--out", str(out), "--quiet"])

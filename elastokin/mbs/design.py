@@ -107,12 +107,8 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
             model, supports = built[key]
             set_spring_forces(model, {name: forces[name] for name in balanced})
         else:
-            model = SuspensionModel(s, ModelOptions(), DesignState(forces, preload),
-                                    balancing=ideal, balancing_offsets=offsets)
-            if idle[0]:
-                hold_idle_spins(model)
-            supports = hold_contact_patches(model)
-            built[key] = model, supports
+            model, supports = built[key] = balancing_model(
+                s, DesignState(forces, preload), ideal, offsets, idle[0])
         state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
                            "balancing the design position")[0]
         loads = model.balancing_bushing_loads() if ideal else state.bushing_load
@@ -146,16 +142,48 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
         # the stiff springs' rotation under the bushings' design torques moves the parts off
         # the design position (a 1.3e6 N*mm torque turns 1.3e-3 rad: 0.3 mm at a 250 mm
         # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it
-        for b in s.bushings:
-            held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
-            # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
-            offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+        offsets.update(relaxation_offsets(s, loads))
         if any(np.any(v) for v in offsets.values()):
             p1, loads = balance()
-    if not balanced:
-        return DesignState(springs, {n: v.copy() for n, v in loads.items()})
-    springs.update(zip(balanced, (float(v) for v in p1)))
-    if ideal:
+    return balanced_design(DesignState(springs, preload), balanced, p1, loads, ideal)
+
+
+def balancing_model(suspension: Suspension, design: DesignState, ideal: bool,
+                    offsets: dict[str, np.ndarray], idle: bool
+                    ) -> tuple[SuspensionModel, dict[str, str]]:
+    """A model of the design balancing and its contact-patch supports by side: the bushings
+    held by their ideal joints when ``ideal`` (their stiff rotational springs at ``offsets``,
+    rad), the idle spins held when ``idle``."""
+    model = SuspensionModel(suspension, ModelOptions(), design, balancing=ideal,
+                            balancing_offsets=offsets)
+    if idle:
+        hold_idle_spins(model)
+    return model, hold_contact_patches(model)
+
+
+def relaxation_offsets(suspension: Suspension, loads: dict[str, np.ndarray]
+                       ) -> dict[str, np.ndarray]:
+    """The offsets (rad) of the balancing's stiff rotational springs at which each bushing's
+    torques in ``loads`` (N*mm, its last three) are carried at zero rotation, about the axes
+    its ideal joint holds (0 about the others)."""
+    offsets = {}
+    for b in suspension.bushings:
+        held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
+        # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
+        offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+    return offsets
+
+
+def balanced_design(unbalanced: DesignState, balanced: tuple[str, ...], forces: np.ndarray,
+                    loads: dict[str, np.ndarray], ideal: bool) -> DesignState:
+    """The design state after the balancing: the ``balanced`` springs at ``forces`` (N);
+    the bushing preloads the balancing's bushing ``loads`` (N, N*mm) when the bushings were
+    held by their ideal joints (``ideal``) or no spring was balanced, else those of
+    ``unbalanced``."""
+    springs = dict(unbalanced.spring_force_N)
+    springs.update(zip(balanced, (float(v) for v in forces)))
+    preload = unbalanced.bushing_preload
+    if ideal or not balanced:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
 
