@@ -86,17 +86,14 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
     check_assembly(s)
-    d = s.design
-    springs = {sp.name: sp.design_force_N() for sp in s.springs}
-    preload = {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
-               for b in s.bushings}
-    if d.balance_spring is None and not d.balance_bushing_preloads:
-        return DesignState(springs, preload)
-    ideal = d.balance_bushing_preloads  # bushings held by their ideal joints
+    unbalanced = unbalanced_design(s)
+    if s.design.balance_spring is None and not s.design.balance_bushing_preloads:
+        return unbalanced
+    springs, preload = unbalanced.spring_force_N, unbalanced.bushing_preload
+    ideal = s.design.balance_bushing_preloads  # bushings held by their ideal joints
     idle = [False]  # idle spins held: only when the plain balancing does not solve
     offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
     balanced = balanced_springs(s)
-
     built: dict = {}  # one model per pass, its balanced springs' forces set in place
 
     def solve(p: np.ndarray):
@@ -145,7 +142,15 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
         offsets.update(relaxation_offsets(s, loads))
         if any(np.any(v) for v in offsets.values()):
             p1, loads = balance()
-    return balanced_design(DesignState(springs, preload), balanced, p1, loads, ideal)
+    return balanced_design(unbalanced, balanced, p1, loads, ideal)
+
+
+def unbalanced_design(suspension: Suspension) -> DesignState:
+    """The design state before any balancing: each spring's own design force (N), each
+    bushing's load at its initial deflection (N, N*mm)."""
+    return DesignState({sp.name: sp.design_force_N() for sp in suspension.springs},
+                       {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
+                        for b in suspension.bushings})
 
 
 def balancing_model(suspension: Suspension, design: DesignState, ideal: bool,
