@@ -37,6 +37,18 @@ def case_path() -> Path:
 
 
 @pytest.fixture(scope="session")
+def coarse_travel(tmp_path_factory) -> Path:
+    """configs/rigs/travel_only.yaml in 10 mm steps (11 points a branch, not 51): for the
+    runs that check what a command does with its results (cache, trust), not the load
+    cases."""
+    text = (ROOT / "configs" / "rigs" / "travel_only.yaml").read_text()
+    assert "step_mm: 2," in text
+    path = tmp_path_factory.mktemp("rig") / "coarse_travel.yaml"
+    path.write_text(text.replace("step_mm: 2,", "step_mm: 10,"))
+    return path
+
+
+@pytest.fixture(scope="session")
 def case():
     from elastokin.config.loading import load_suspension
 

@@ -10,22 +10,6 @@ from click.testing import CliRunner
 from elastokin.cli import main
 from elastokin.studies.cache import CacheWarning, ResultCache, content_key
 
-#: the runs below check what the cache reuses, not the load cases: parallel travel in 10 mm
-#: steps only (the K&C test files of the other load cases are then ignored with a warning)
-SHORT_RIG = ("parallel_travel: {rebound_mm: -50, bump_mm: 50, step_mm: 10, unloading: false}\n"
-             + "".join(f"{case}: null\n" for case in (
-                 "vertical_force", "lateral_force", "longitudinal_force_patch",
-                 "longitudinal_force_centre", "aligning_torque", "opposite_travel",
-                 "single_wheel_travel", "roll_vertical_force", "steering", "static_load",
-                 "lateral_force_anti_phase")))
-
-
-@pytest.fixture(scope="module")
-def short_rig(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rig") / "short_rig.yaml"
-    path.write_text(SHORT_RIG)
-    return path
-
 
 def test_a_changed_input_file_changes_the_key(tmp_path):
     data = tmp_path / "lateral_force.csv"
@@ -83,14 +67,14 @@ def _copy_case(case_path, tmp_path):
 
 
 @pytest.mark.slow
-def test_a_changed_input_is_never_answered_from_the_cache(case_path, short_rig, tmp_path):
+def test_a_changed_input_is_never_answered_from_the_cache(case_path, coarse_travel, tmp_path):
     """One toe value of the K&C test data changed by 0.001 deg after a run: the next run
     recomputes every model (the identification, which does not read the test data, is
     reused); nothing changed, everything is reused."""
     config = _copy_case(case_path, tmp_path)
     out = tmp_path / "res"
     args = ["kc", "--config", str(config), "--out", str(out), "--quiet", "--models",
-            "initial,identified", "--rig", str(short_rig)]
+            "initial,identified", "--rig", str(coarse_travel)]
     assert CliRunner().invoke(main, args).exit_code == 0
     CliRunner().invoke(main, args)
     assert json.loads((out / "summary.json").read_text())["reused_from_cache"] == [
@@ -109,7 +93,7 @@ def test_a_changed_input_is_never_answered_from_the_cache(case_path, short_rig, 
 
 
 @pytest.mark.slow
-def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, short_rig, tmp_path):
+def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, coarse_travel, tmp_path):
     """Two `elastokin kc` processes at once into the same folder: both succeed, the folder
     holds one run's complete results, and its cache entries serve the next run."""
     import subprocess
@@ -118,7 +102,7 @@ def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, short_ri
     out = tmp_path / "res"
     cmd = [sys.executable, "-c", "import sys; from elastokin.cli import main; "
            "sys.exit(main())", "kc", "--config", str(case_path), "--out", str(out),
-           "--quiet", "--models", "initial,identified", "--rig", str(short_rig)]
+           "--quiet", "--models", "initial,identified", "--rig", str(coarse_travel)]
     procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               text=True) for _ in range(2)]
     for p in procs:

@@ -298,15 +298,6 @@ def test_a_missing_key_file_is_made_and_old_entries_are_foreign(tmp_path, monkey
 
 # ------------------------------------------------------- the command, on every cached result
 @pytest.fixture(scope="module")
-def coarse_travel(tmp_path_factory) -> Path:
-    """configs/rigs/travel_only.yaml in 10 mm steps (the entries' trust is checked, not the
-    load cases)."""
-    path = tmp_path_factory.mktemp("rig") / "coarse_travel.yaml"
-    path.write_text(TRAVEL.read_text().replace("step_mm: 2,", "step_mm: 10,"))
-    return path
-
-
-@pytest.fixture(scope="module")
 def clean_run(tmp_path_factory, coarse_travel) -> Path:
     """`elastokin kc` on the case study with parallel travel only (identification, four
     models, the stiffness fit): about 3 s."""
