@@ -10,7 +10,10 @@ two ways:
 - ``naive`` (the straightforward set-up): Python user functions for bushings and rig paths,
   full Newton, one SolveStatic call per point.
 
-Both give the same curve (checked here). Best of ``--repeat`` runs.
+Both give the same curve (checked here); the tuned sweep again with the static solver set up
+as before issue 28 (``ms_per_point_before_issue28``: Exudyn's five passes of the discontinuous
+iteration, ``ModelOptions(discontinuous_iterations=5)``; the same results). Best of
+``--repeat`` runs.
 
 End to end (issue 17), the commands a user runs, as subprocesses: ``elastokin --help``
 (``help_s``), ``elastokin kc`` on the case study into a new folder (``kc_cold_s``: no cache)
@@ -25,17 +28,20 @@ archive``; ``--baseline-rev none`` skips it): wall time ``fit_s``, CPU time of t
 and its workers ``fit_cpu_s``, model runs, and ``model_run_equivalents`` = fit CPU time / CPU
 time of one plain run of the test's load cases on the same model (same run, same machine).
 
-The sweep again with the static solver set up as before issue 28 (``ms_per_point_before_
-issue28``; the same results). The sweep of an earlier revision and of today's code, each in a
-subprocess with the same script (``sweep_revisions``; ``--sweep-baseline-rev``, default the
-merge of issue 28, before its speed work; exported with ``git archive``): CPU time per point,
-the part of it inside Exudyn's ``SolveStatic`` (C++: Newton iterations, residuals, sensors)
-and the rest (Python: inputs, states, the rig's columns), the largest difference of the
-spin axes between the revisions, and Exudyn's own statistics of one solve (Newton
-iterations per step, its CPU-time shares). ``--quick`` (the tests): the per-point figures and
-today's sweep in its subprocess on +-20 mm (no baseline revision).
+The sweep of an earlier revision and of today's code, each in a subprocess with the same
+script (``sweep_revisions``; ``--sweep-baseline-rev``, default the merge of issue 28, before
+its speed work; exported with ``git archive``): CPU time per point, the part of it inside
+Exudyn's ``SolveStatic`` (C++: Newton iterations, residuals, sensors) and the rest (Python:
+inputs, states, the rig's columns), the largest difference of the spin axes between the
+revisions (not zero against a revision before issue 24: the pad holds the tyre's lowest
+point), and Exudyn's own statistics of one solve (Newton iterations per step, its CPU-time
+shares).
 
-Prints the figures and writes them to ``benchmarks/results/bench_kc.json``. Targets:
+Prints the figures and writes them to ``benchmarks/results/bench_kc.json``. ``--quick``
+(bench_common): parallel travel only (configs/rigs/travel_only.yaml), one run (the naive
+set-up over 5 points), today's sweep in its subprocess on +-20 mm (no baseline revision),
+``--help`` and one ``elastokin kc`` of the double wishbone axle at that rig, its charts; the
+fit's names checked, the fit not run. Targets:
 ms_per_point <= 0.3 and at least 5x below ms_per_point_naive (issue 2); kc cold <= 10 s,
 warm <= 3 s, help <= 0.5 s, charts <= 1 s for the corner's 8 (issue 17) and <= 1.5 s with the
 axle's (issue 18: the case study is an axle, 12 charts), the fit >= 10x fewer model-run
@@ -47,71 +53,70 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import os
 import platform
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from elastokin.config.loading import load_suspension
-from elastokin.mbs.design import build_model, design_state
-from elastokin.mbs.model import EXUDYN_VERSION, ModelOptions
-from elastokin.rig.pad import run_pad
-from elastokin.rig.paths import travel_path
-from elastokin.version import __version__
+import elastokin as ek
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import add_output_options, output_path, write_json  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+#: the quick mode's rig (bench_common): parallel travel only, +-50 mm in 2 mm steps, and its
+#: end-to-end run: the double wishbone axle (no identification, no fit), one model
+QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
+QUICK_KC = ("--config", str(ROOT / "configs" / "double_wishbone_axle.yaml"), "--rig",
+            str(QUICK_RIG), "--models", "initial")
 
 
 def command_s(*args: str) -> float:
     """Wall time of one ``elastokin`` command (a subprocess, as a user runs it)."""
-    import subprocess
-    import sys
-
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-c", "import sys; from elastokin.cli import main; "
                     "sys.exit(main())", *args], check=True, capture_output=True)
     return time.perf_counter() - t0
 
 
-def end_to_end(config: str) -> dict:
-    """The end-to-end figures (see the module docstring)."""
-    import os
-    import tempfile
-
-    from elastokin.report.axle_charts import axle_chart_inputs
-    from elastokin.report.charts import kc_charts
-    from elastokin.report.files import read_results
-
+def end_to_end(config: str, quick: bool) -> dict:
+    """The end-to-end figures (see the module docstring; quick: --help and one run of
+    :data:`QUICK_KC`, its charts)."""
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "res"
-        load = os.getloadavg()[0]
-        figures = {"help_s": command_s("--help"),
-                   "kc_cold_s": command_s("kc", "--config", config, "--out", str(out),
-                                          "--quiet"),
-                   "kc_warm_s": command_s("kc", "--config", config, "--out", str(out),
-                                          "--quiet"),
-                   "kc_no_fit_s": command_s("kc", "--config", config, "--out",
-                                            str(Path(tmp) / "nofit"), "--quiet", "--models",
-                                            "initial,identified")}
-        summary, sweeps = read_results(out)
-        prov = {k: summary[k] for k in ("elastokin_version", "exudyn_version", "config_file",
-                                        "config_sha256")}
+        figures = {"load_average_1min_before": os.getloadavg()[0],
+                   "help_s": command_s("--help")}
+        if quick:
+            figures["kc_cold_s"] = command_s("kc", *QUICK_KC, "--out", str(out), "--quiet")
+        else:
+            kc = ("kc", "--config", config, "--quiet")
+            figures["kc_cold_s"] = command_s(*kc, "--out", str(out))
+            figures["kc_warm_s"] = command_s(*kc, "--out", str(out))
+            figures["kc_no_fit_s"] = command_s(*kc, "--out", str(Path(tmp) / "nofit"),
+                                               "--models", "initial,identified")
+        summary, sweeps = ek.read_results(out)
         charts = Path(tmp) / "charts"
         charts.mkdir()
         t0 = time.perf_counter()
-        kc_charts(sweeps, charts, prov, summary["errors"], axle=axle_chart_inputs(summary))
+        ek.draw_kc_charts(summary, sweeps, charts)
         figures["charts_s"] = time.perf_counter() - t0
-        figures["fit_model_runs"] = json.loads(
-            (out / "stiffness_identification.json").read_text())["evaluations"]
-        figures["load_average_1min_before"] = load
+        fit = out / "stiffness_identification.json"
+        figures["fit_model_runs"] = (json.loads(fit.read_text())["evaluations"]
+                                     if fit.exists() else None)
     figures["targets"] = {"kc_cold_s_max": 10.0, "kc_warm_s_max": 3.0, "help_s_max": 0.5}
     return figures
 
 
 #: the last commit whose stiffness fit used finite-difference Jacobians (541 model runs)
 BASELINE_REV = "20eb699"
-#: the fit of one release, timed in a subprocess (the same script for both: argv config)
+#: the fit of one release, timed in a subprocess (the same script for both: argv config).
+#: It runs on the baseline release too, which predates today's ``elastokin`` API: it uses
+#: the module-level public functions both releases have.
 FIT_SCRIPT = r"""
 import dataclasses, json, resource, sys, time
 from elastokin.config.loading import load_suspension
@@ -141,12 +146,34 @@ print(json.dumps({"fit_s": wall, "fit_cpu_s": fit_cpu, "fit_model_runs": fit.eva
 """
 
 
+def fit_script_names() -> dict:
+    """The quick mode's check of FIT_SCRIPT: the names it imports exist (the fit itself takes
+    seconds), by import in this process."""
+    import importlib
+
+    def exists(module: str, name: str) -> bool:
+        if hasattr(importlib.import_module(module), name):
+            return True
+        try:  # a submodule
+            return importlib.import_module(f"{module}.{name}") is not None
+        except ImportError:
+            return False
+
+    checked = {}
+    for line in FIT_SCRIPT.splitlines():
+        words = line.split()
+        if line.startswith("from elastokin"):
+            for name in " ".join(words[3:]).split(","):
+                checked[f"{words[1]}.{name.strip()}"] = exists(words[1], name.strip())
+    missing = [k for k, ok in checked.items() if not ok]
+    if missing:
+        raise SystemExit(f"bench_kc: FIT_SCRIPT imports names that do not exist: {missing}")
+    return {"skipped": "quick mode: the fit's names checked, the fit not run",
+            "names": sorted(checked)}
+
+
 def fit_figures(root: Path, config: Path) -> dict:
     """The fit of the code in ``root`` on ``config``, in a subprocess (FIT_SCRIPT)."""
-    import os
-    import subprocess
-    import sys
-
     env = dict(os.environ, PYTHONPATH=str(root))
     out = subprocess.run([sys.executable, "-c", FIT_SCRIPT, str(config)], cwd=root, env=env,
                          check=True, capture_output=True, text=True)
@@ -155,9 +182,6 @@ def fit_figures(root: Path, config: Path) -> dict:
 
 def fit_comparison(baseline_rev: str | None) -> dict:
     """Today's fit and the baseline release's, in one run (see the module docstring)."""
-    import subprocess
-    import tempfile
-
     config = Path("configs") / "pseudo_mcpherson.yaml"
     result = {"today": fit_figures(ROOT, ROOT / config)}
     if baseline_rev:
@@ -246,10 +270,6 @@ def exudyn_statistics(text: str) -> dict:
 
 def sweep_figures(root: Path, config: Path, repeat: int, half_mm: float) -> dict:
     """One revision's sweep (SWEEP_SCRIPT) in a subprocess with the code in ``root``."""
-    import os
-    import subprocess
-    import sys
-
     env = dict(os.environ, PYTHONPATH=str(root))
     out = subprocess.run([sys.executable, "-c", SWEEP_SCRIPT, str(config), str(repeat),
                           str(half_mm)], cwd=root, env=env, check=True, capture_output=True,
@@ -267,9 +287,6 @@ def sweep_revisions(config: Path, baseline_rev: str | None, repeat: int,
                     half_mm: float) -> dict:
     """Today's sweep and the baseline revision's, alternately in subprocesses (module
     docstring), with their ratio and the largest spin-axis difference."""
-    import subprocess
-    import tempfile
-
     rel = config.resolve().relative_to(ROOT)
     with tempfile.TemporaryDirectory() as tmp:
         roots = {"today": ROOT}
@@ -291,25 +308,6 @@ def sweep_revisions(config: Path, baseline_rev: str | None, repeat: int,
     return result
 
 
-def sweep_before_issue28(model, z):
-    """The sweep with the static solver set up as before issue 28 (the discontinuous
-    iteration's five passes)."""
-    import elastokin.mbs.solve as solve
-
-    now = solve.simulation_settings
-
-    def before(m, steps):
-        ss = now(m, steps)
-        ss.staticSolver.discontinuous.maxIterations = 5
-        return ss
-
-    solve.simulation_settings = before
-    try:
-        return run_pad(model, pad_z_mm=z)
-    finally:
-        solve.simulation_settings = now
-
-
 def best_of(fn, repeat: int) -> tuple[float, object]:
     best, out = float("inf"), None
     for _ in range(repeat):
@@ -319,110 +317,109 @@ def best_of(fn, repeat: int) -> tuple[float, object]:
     return best, out
 
 
-def main() -> None:
+def solver_figures(s, design, repeat: int, naive_points: int | None = None) -> dict:
+    """Model build, one static solve and the parallel-travel sweep, tuned and naive (see the
+    module docstring; the naive one over the first ``naive_points`` points: all by default),
+    best of ``repeat``."""
+    z = ek.parallel_travel_drive(s).inputs  # from the design position, the stroke, the return
+    n, n_naive = len(z), len(z) if naive_points is None else naive_points
+    t_build, model = best_of(lambda: ek.build_model(s, ek.ModelOptions(), design), repeat)
+    t_static, _ = best_of(lambda: ek.run_pad(model, pad_loads=[s.up * s.design.wheel_load_N]),
+                          repeat)
+    t_sweep, tuned = best_of(lambda: ek.run_pad(model, pad_z_mm=z), repeat)
+    naive_s = dataclasses.replace(s, solver=s.solver.model_copy(
+        update={"modified_newton": False}))
+    naive_model = ek.build_model(naive_s, ek.ModelOptions(user_functions="python"), design)
+    t_naive, naive = best_of(lambda: ek.run_pad(naive_model, pad_z_mm=z[:n_naive],
+                                                solve_per_step=True), repeat)
+    spin = np.array([st.spin_axis for st in tuned[:n_naive]])
+    spin_naive = np.array([st.spin_axis for st in naive])
+    # the static solver set up as before issue 28: Exudyn's five passes of the discontinuous
+    # iteration (the same results, bit for bit)
+    before_model = ek.build_model(s, ek.ModelOptions(discontinuous_iterations=5), design)
+    t_before, before = best_of(lambda: ek.run_pad(before_model, pad_z_mm=z), repeat)
+    spin_all = np.array([st.spin_axis for st in tuned])
+    before_diff = float(np.max(np.abs(spin_all - np.array([st.spin_axis for st in before]))))
+    out = {"points": n, "repeat": repeat, "build_ms": 1e3 * t_build,
+           "static_solve_ms": 1e3 * t_static, "sweep_ms": 1e3 * t_sweep,
+           "ms_per_point": 1e3 * t_sweep / n, "naive_points": n_naive,
+           "naive_sweep_ms": 1e3 * t_naive, "ms_per_point_naive": 1e3 * t_naive / n_naive,
+           "speedup": (t_naive / n_naive) / (t_sweep / n),
+           "ms_per_point_before_issue28": 1e3 * t_before / n,
+           "max_spin_axis_difference_before_issue28": before_diff,
+           "max_spin_axis_difference_tuned_vs_naive": float(np.max(np.abs(spin - spin_naive))),
+           "solver": model.solver_settings(),
+           "targets": {"ms_per_point_max": 0.3, "speedup_min": 5.0}}
+    out["meets_targets"] = bool(out["ms_per_point"] <= 0.3 and out["speedup"] >= 5.0)
+    return out
+
+
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--config", default=str(ROOT / "configs" / "pseudo_mcpherson.yaml"))
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_kc.json"))
     ap.add_argument("--baseline-rev", default=BASELINE_REV,
                     help="git revision whose stiffness fit is the baseline ('none': skip)")
     ap.add_argument("--sweep-baseline-rev", default=SWEEP_BASELINE_REV,
                     help="git revision whose sweep is timed beside today's ('none': skip)")
-    ap.add_argument("--quick", action="store_true",
-                    help="the per-point figures only, one repeat (seconds; the tests run it)")
-    args = ap.parse_args()
-    if args.quick:
-        args.repeat = min(args.repeat, 2)
+    add_output_options(ap, "bench_kc")
+    args = ap.parse_args(argv)
+    out = output_path(args, "bench_kc")
 
-    s = load_suspension(args.config)
-    design = design_state(s)
-    tp = s.rig.parallel_travel
-    z, _ = travel_path(tp.rebound_mm, tp.bump_mm, tp.step_mm, tp.unloading)
-    n = len(z)
-
-    t_build, model = best_of(lambda: build_model(s, ModelOptions(), design), args.repeat)
-    t_static, _ = best_of(lambda: run_pad(model, pad_loads=[s.up * s.design.wheel_load_N]),
-                          args.repeat)
-    t_sweep, tuned = best_of(lambda: run_pad(model, pad_z_mm=z), args.repeat)
-    t_before, before = best_of(lambda: sweep_before_issue28(model, z), args.repeat)
-    before_diff = float(np.max(np.abs(np.array([st.spin_axis for st in tuned])
-                                      - np.array([st.spin_axis for st in before]))))
-
-    naive_s = dataclasses.replace(s, solver=s.solver.model_copy(
-        update={"modified_newton": False}))
-    naive_model = build_model(naive_s, ModelOptions(user_functions="python"), design)
-    naive_z = z[:20] if args.quick else z  # quick: the naive way's first 20 points
-    t_naive, naive = best_of(lambda: run_pad(naive_model, pad_z_mm=naive_z,
-                                             solve_per_step=True), args.repeat)
-    t_naive *= len(z) / len(naive_z)
-    toe = np.array([st.spin_axis for st in tuned])[:len(naive)]
-    toe_naive = np.array([st.spin_axis for st in naive])
-    max_diff = float(np.max(np.abs(toe - toe_naive)))
-
-    result = {
-        "elastokin_version": __version__,
-        "exudyn_version": EXUDYN_VERSION,
-        "config_sha256": s.sha256,
-        "machine": {"python": platform.python_version(), "processor": platform.machine()},
-        "points": n,
-        "repeat": args.repeat,
-        "build_ms": 1e3 * t_build,
-        "static_solve_ms": 1e3 * t_static,
-        "sweep_ms": 1e3 * t_sweep,
-        "ms_per_point": 1e3 * t_sweep / n,
-        "ms_per_point_naive": 1e3 * t_naive / n,
-        "ms_per_point_before_issue28": 1e3 * t_before / n,
-        "max_spin_axis_difference_before_issue28": before_diff,
-        "speedup": t_naive / t_sweep,
-        "max_spin_axis_difference_tuned_vs_naive": max_diff,
-        "solver": model.solver_settings(),
-        "targets": {"ms_per_point_max": 0.3, "speedup_min": 5.0},
-    }
-    result["meets_targets"] = bool(result["ms_per_point"] <= 0.3 and result["speedup"] >= 5.0)
-    result["quick"] = args.quick
+    s = ek.load_suspension_with_rig(args.config, QUICK_RIG if args.quick else None)
+    result = {"elastokin_version": ek.__version__, "exudyn_version": ek.exudyn_version(),
+              "config_sha256": s.sha256, "quick": args.quick,
+              "machine": {"python": platform.python_version(),
+                          "processor": platform.machine()},
+              **solver_figures(s, ek.design_state(s), 1 if args.quick else args.repeat,
+                               5 if args.quick else None)}
     result["sweep_revisions"] = sweep_revisions(
         Path(args.config), None if args.quick or args.sweep_baseline_rev == "none" else
-        args.sweep_baseline_rev, args.repeat, 20.0 if args.quick else 0.0)
-    if not args.quick:
-        result["end_to_end"] = end_to_end(args.config)
+        args.sweep_baseline_rev, 1 if args.quick else args.repeat, 20.0 if args.quick else 0.0)
+    result["end_to_end"] = end_to_end(args.config, args.quick)
+    if args.quick:
+        result["stiffness_fit"] = fit_script_names()
+    else:
         result["stiffness_fit"] = fit_comparison(None if args.baseline_rev == "none"
                                                  else args.baseline_rev)
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
-    print(f"model build        {result['build_ms']:8.2f} ms")
-    print(f"static solve       {result['static_solve_ms']:8.2f} ms")
-    print(f"sweep ({n} points) {result['sweep_ms']:8.2f} ms  -> {result['ms_per_point']:.3f} "
+    write_json(out, result)
+    report(result, out)
+
+
+def report(r: dict, out: Path) -> None:
+    n = r["points"]
+    print(f"model build        {r['build_ms']:8.2f} ms")
+    print(f"static solve       {r['static_solve_ms']:8.2f} ms")
+    print(f"sweep ({n} points) {r['sweep_ms']:8.2f} ms  -> {r['ms_per_point']:.3f} "
           "ms/point (target <= 0.3)")
-    print(f"naive sweep        {1e3 * t_naive:8.2f} ms  -> {result['ms_per_point_naive']:.3f} "
-          f"ms/point; speed-up {result['speedup']:.1f}x (target >= 5)")
-    print(f"tuned vs naive: max spin-axis difference {max_diff:.2e}")
-    print(f"before issue 28    {1e3 * t_before:8.2f} ms  -> "
-          f"{result['ms_per_point_before_issue28']:.3f} ms/point (the same results: max "
-          f"spin-axis difference {before_diff:.1e})")
-    sw = result["sweep_revisions"]
+    print(f"naive ({r['naive_points']} points) {r['naive_sweep_ms']:8.2f} ms  -> "
+          f"{r['ms_per_point_naive']:.3f} ms/point; speed-up {r['speedup']:.1f}x (target >= 5)")
+    print("tuned vs naive: max spin-axis difference "
+          f"{r['max_spin_axis_difference_tuned_vs_naive']:.2e}")
+    print(f"before issue 28    {r['ms_per_point_before_issue28']:.3f} ms/point (the same "
+          f"results: max spin-axis difference {r['max_spin_axis_difference_before_issue28']:.1e})")
+    sw = r["sweep_revisions"]
     for name in ("baseline", "today"):
         if name in sw:
-            r = sw[name]
-            print(f"sweep, {name:<8} {r.get('rev', 'this code'):>9}: {r['ms_per_point']:.3f} "
-                  f"ms/point CPU ({r['solve_static_ms_per_point']:.3f} in Exudyn's "
-                  f"SolveStatic, {r['python_ms_per_point']:.3f} Python; "
-                  f"{r['exudyn']['newton_iterations_per_step'] or float('nan'):.1f} Newton "
+            v = sw[name]
+            print(f"sweep, {name:<8} {v.get('rev', 'this code'):>9}: {v['ms_per_point']:.3f} "
+                  f"ms/point CPU ({v['solve_static_ms_per_point']:.3f} in Exudyn's "
+                  f"SolveStatic, {v['python_ms_per_point']:.3f} Python; "
+                  f"{v['exudyn']['newton_iterations_per_step'] or float('nan'):.1f} Newton "
                   "iterations a step)")
     if "ms_per_point_ratio" in sw:
         print(f"sweep: {sw['ms_per_point_ratio']:.2f}x faster than {sw['baseline']['rev']}, max "
               f"spin-axis difference {sw['max_spin_axis_difference']:.1e}")
-    if args.quick:
-        print(f"written to {args.out}")
-        return
-    e = result["end_to_end"]
+    e = r["end_to_end"]
     print(f"elastokin --help    {e['help_s']:8.2f} s (target <= 0.5)")
     print(f"kc cold             {e['kc_cold_s']:8.2f} s (target <= 10; stiffness fit "
           f"{e['fit_model_runs']} model runs)")
-    print(f"kc warm (cache)     {e['kc_warm_s']:8.2f} s (target <= 3)")
-    print(f"kc --models initial,identified {e['kc_no_fit_s']:8.2f} s")
+    if "kc_warm_s" in e:
+        print(f"kc warm (cache)     {e['kc_warm_s']:8.2f} s (target <= 3)")
+        print(f"kc --models initial,identified {e['kc_no_fit_s']:8.2f} s")
     print(f"charts              {e['charts_s']:8.2f} s (target <= 1)")
-    f = result["stiffness_fit"]
-    for name, v in (("fit (today)", f["today"]), ("fit (baseline)", f.get("baseline"))):
+    f = r["stiffness_fit"]
+    for name, v in (("fit (today)", f.get("today")), ("fit (baseline)", f.get("baseline"))):
         if v:
             print(f"{name:<19} {v['fit_s']:8.2f} s wall, {v['fit_cpu_s']:.2f} s CPU, "
                   f"{v['fit_model_runs']} model runs, {v['passes']} passes, "
@@ -430,7 +427,8 @@ def main() -> None:
     if "model_run_equivalents_ratio" in f:
         print(f"fit: {f['model_run_equivalents_ratio']:.1f}x fewer model-run equivalents "
               f"than {f['baseline']['rev']} (target >= 10), {f['fit_s_ratio']:.1f}x faster")
-    print(f"written to {args.out}")
+    print(f"load average {e['load_average_1min_before']:.2f} before the commands; "
+          f"written to {out}")
 
 
 if __name__ == "__main__":

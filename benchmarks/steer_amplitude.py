@@ -12,7 +12,8 @@ prints them beside the reference paper's 0.30 / 0.60 / 0.45 deg, writes
 ``benchmarks/results/steer_amplitude.json`` and exits with status 1 when any amplitude differs
 from the committed baseline (``benchmarks/steer_amplitude_baseline.json``) by more than 0.005
 deg. ``--update-baseline`` rewrites the baseline (after a deliberate change; say why in the
-commit).
+commit). ``--quick`` (bench_common): the models and the real suspension over parallel travel
++-50 mm only (configs/rigs/travel_only.yaml), no baseline check.
 """
 
 from __future__ import annotations
@@ -23,44 +24,46 @@ import sys
 import time
 from pathlib import Path
 
+import elastokin as ek
 from elastokin.cli.kc import progress_bar
-from elastokin.config.loading import load_suspension
-from elastokin.mbs.model import EXUDYN_VERSION
-from elastokin.rig.characteristics import steer_amplitude_deg
-from elastokin.rig.load_cases import parallel_travel
-from elastokin.studies.kc_job import run_kc
-from elastokin.synthetic.real_suspension import real_suspension_model
-from elastokin.version import __version__
 
-ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_common import ROOT, add_output_options, output_path, write_json  # noqa: E402
+
 CONFIG = ROOT / "configs" / "pseudo_mcpherson.yaml"
 BASELINE = ROOT / "benchmarks" / "steer_amplitude_baseline.json"
-RESULT = ROOT / "benchmarks" / "results" / "steer_amplitude.json"
 TOLERANCE_DEG = 0.005
+#: the quick mode's rig (bench_common): parallel travel only, +-50 mm in 2 mm steps
+QUICK_RIG = ROOT / "configs" / "rigs" / "travel_only.yaml"
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--update-baseline", action="store_true")
-    args = ap.parse_args()
+    add_output_options(ap, "steer_amplitude")
+    args = ap.parse_args(argv)
+    out = output_path(args, "steer_amplitude")
+    if args.quick and args.update_baseline:
+        raise SystemExit("--quick: its amplitudes are over a shorter stroke, not a baseline")
 
     t0 = time.perf_counter()
-    s = load_suspension(CONFIG)
+    s = ek.load_suspension_with_rig(CONFIG, QUICK_RIG if args.quick else None)
     with progress_bar(9) as progress:
         # the steer amplitudes need no stiffness fit
-        run = run_kc(s, progress, models=["initial", "identified"])
+        run = ek.run_kc(s, progress, models=["initial", "identified"])
         progress("synthetic real suspension: parallel travel")
-        real = parallel_travel(real_suspension_model(s), "test")
+        real = ek.parallel_travel(ek.real_suspension_model(s), "test")
     amplitudes = {label: run.models[label].summary()["steer_amplitude_deg"]
                   for label in ("test", "initial", "identified")}
-    regenerated = steer_amplitude_deg(real)
+    regenerated = ek.steer_amplitude_deg(real)
     seconds = time.perf_counter() - t0
     paper = dict(s.reference.steer_amplitude_deg)
 
     print(f"steer amplitude over the travel stroke (deg), {CONFIG.name}:")
     print(f"  {'':<12}{'elastokin':>10}{'paper':>8}{'baseline':>10}")
+    # quick: the models' stroke is shorter than the test file's, no baseline holds
     baseline = json.loads(BASELINE.read_text())["steer_amplitude_deg"] \
-        if BASELINE.exists() else {}
+        if BASELINE.exists() and not args.quick else {}
     drift = {}
     for label, value in amplitudes.items():
         b = baseline.get(label)
@@ -69,14 +72,15 @@ def main() -> int:
               f"{'' if b is None else format(b, '.4f'):>10}")
     print(f"  test from the real suspension run again: {regenerated:.4f} deg "
           f"(file {amplitudes['test']:.4f})")
-    drift["test_regenerated"] = regenerated - amplitudes["test"]
+    drift["test_regenerated"] = None if args.quick else regenerated - amplitudes["test"]
     failed = [k for k, d in drift.items() if d is not None and abs(d) > TOLERANCE_DEG]
 
     doc = {
-        "elastokin_version": __version__,
-        "exudyn_version": EXUDYN_VERSION,
+        "elastokin_version": ek.__version__,
+        "exudyn_version": ek.exudyn_version(),
         "config_file": str(CONFIG.relative_to(ROOT)),
         "config_sha256": s.sha256,
+        "quick": args.quick,
         "solver": run.models["identified"].solver,
         "units": "deg",
         "steer_amplitude_deg": amplitudes,
@@ -88,14 +92,16 @@ def main() -> int:
         "passed": not failed,
         "seconds": round(seconds, 2),
     }
-    RESULT.parent.mkdir(parents=True, exist_ok=True)
-    RESULT.write_text(json.dumps(doc, indent=2) + "\n")
+    write_json(out, doc)
     if args.update_baseline:
         BASELINE.write_text(json.dumps({
             "note": "steer amplitudes of the shipped case study (deg); benchmarks/"
                     "steer_amplitude.py fails when one drifts by more than 0.005 deg",
             "config_sha256": s.sha256, "steer_amplitude_deg": amplitudes}, indent=2) + "\n")
         print(f"baseline written: {BASELINE}")
+        return 0
+    if args.quick:
+        print(f"quick mode: no baseline check ({out})")
         return 0
     if not baseline:
         print(f"no baseline ({BASELINE}); run with --update-baseline", file=sys.stderr)
@@ -104,7 +110,7 @@ def main() -> int:
         print(f"FAILED: drift above {TOLERANCE_DEG} deg: "
               + ", ".join(f"{k} {drift[k]:+.4f}" for k in failed), file=sys.stderr)
         return 1
-    print(f"passed: every amplitude within {TOLERANCE_DEG} deg of the baseline ({RESULT})")
+    print(f"passed: every amplitude within {TOLERANCE_DEG} deg of the baseline ({out})")
     return 0
 
 

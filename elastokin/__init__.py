@@ -46,6 +46,7 @@ _API = {
     "with_hardpoints": "elastokin.config.variants",
     "with_bushing_laws": "elastokin.config.variants",
     "with_joint_shifts": "elastokin.config.variants",
+    "corner": "elastokin.config.variants",
     "rigid_beams": "elastokin.config.variants",
     # models
     "build_model": "elastokin.mbs.design",
@@ -54,12 +55,17 @@ _API = {
     # the rig
     "run_load_cases": "elastokin.rig.load_cases",
     "run_drive": "elastokin.rig.load_cases",
+    "run_drive_sides": "elastokin.rig.load_cases",
     "drives": "elastokin.rig.load_cases",
     "parallel_travel": "elastokin.rig.load_cases",
+    "parallel_travel_drive": "elastokin.rig.load_cases",
     "static_equilibrium": "elastokin.rig.load_cases",
+    "static_states": "elastokin.rig.load_cases",
     "compliance_matrix": "elastokin.rig.load_cases",
     "run_pad": "elastokin.rig.pad",
     "summary_figures": "elastokin.rig.characteristics",
+    "steer_amplitude_deg": "elastokin.rig.characteristics",
+    "dependent_axle": "elastokin.rig.axle_channels",
     "Sweep": "elastokin.rig.sweeps",
     "CHANNELS": "elastokin.rig.channels",
     # identification and studies
@@ -71,6 +77,13 @@ _API = {
     "run_kc_from_variants": "elastokin.studies.kc_job",
     "KCRun": "elastokin.studies.kc_job",
     "read_test_sweeps": "elastokin.formats.kc_test_sweeps",
+    "real_suspension_model": "elastokin.synthetic.real_suspension",
+    # tolerance studies (DOE)
+    "make_study": "elastokin.studies.doe",
+    "evaluate_sample": "elastokin.studies.doe",
+    "as_built_model": "elastokin.studies.doe",
+    "travel_sweep": "elastokin.studies.doe",
+    "run_dask": "elastokin.studies.doe_runner",
     # design to targets
     "DesignVariable": "elastokin.config.design_variables",
     "design_suspension": "elastokin.config.design_variables",
@@ -86,8 +99,11 @@ _API = {
     # results
     "write_kc_results": "elastokin.report.files",
     "read_results": "elastokin.report.files",
+    "draw_kc_charts": "elastokin.report.charts",
     "write_vehicle_results": "elastokin.report.vehicle_files",
     "read_vehicle_results": "elastokin.report.vehicle_files",
+    # provenance
+    "exudyn_version": "elastokin.version",
 }
 
 __all__ = ["__version__", *_API]

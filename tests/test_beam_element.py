@@ -142,3 +142,20 @@ def test_kinked_beam():
     expected = (F * (a**3 + b_**3) / (3 * s.EI_y_Nmm2) + F * (a + b_) / s.GA_z_N
                 + F * b_**2 * a / s.GJ_Nmm2)
     assert u[2] == pytest.approx(expected, rel=1e-5)
+
+
+def test_beam_node_sensors_of_a_run_that_reached_no_step():
+    """A solve that fails before its first step leaves no rows: a beam's node arrays are
+    empty (steps 0, nodes, ...), not a reshape error hiding the solver's message."""
+    from types import SimpleNamespace
+
+    from elastokin.mbs.solve import combined_sensors
+
+    frames = {n: np.eye(3) for n in ("a", "b")}
+    model = SimpleNamespace(bushings={}, node_lines={"beam": ["a", "b"]},
+                            beams={"beam": SimpleNamespace(frames=frames)})
+    data = {f"part:node:{n}:{k}": np.zeros((0, 9 if k == "R" else 3))
+            for n in frames for k in ("R", "disp")}
+    out = combined_sensors(data, model)
+    assert out["beam:beam:node_R"].shape == (0, 2, 3, 3)
+    assert out["beam:beam:node_x"].shape == (0, 2, 3)

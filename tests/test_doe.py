@@ -150,8 +150,8 @@ def test_serial_and_local_cluster_give_identical_results(case_path, tmp_path):
     assert set(d["steer_amplitude_deg"]) >= {"mean", "std", "p05", "p95"}
     assert set(d["sensitivity"]) == {"J1", "J2", "J4", "J7", "J8"}
     assert all(isinstance(v, float) for v in d["sensitivity"].values())
-    # 0.75 mm of clearance spreads the 0.506 deg nominal steer amplitude by about 0.1 deg
-    assert d["nominal"]["steer_amplitude_deg"] == pytest.approx(0.5063, abs=0.005)
+    # 0.75 mm of clearance spreads the 0.519 deg nominal steer amplitude by about 0.1 deg
+    assert d["nominal"]["steer_amplitude_deg"] == pytest.approx(0.5188, abs=0.005)
     assert 0.01 < d["steer_amplitude_deg"]["std"] < 0.3
     assert d["solver"]["newton_relative_tolerance"] > 0 and len(d["config_sha256"]) == 64
     assert "wheel_rate_N_per_mm" in d["characteristics"]

@@ -200,9 +200,11 @@ def test_noise_free_identification_is_exact(tmp_path, case_dict):
     s = suspension_from_dict(data, str(tmp_path / "c.yaml"))
     synthesize(s)
     result = identify(s)
-    # 0.005 mm measured: the identification holds the bushings in their ideal joints, the
-    # as-built also has their small rotational deflections
-    assert max(j.error_vs_truth_mm for j in result.joints.values()) < 0.01
+    # 0.020 mm measured (J1; J2 and J4 0.003 mm): the identification holds the bushings in
+    # their ideal joints, the as-built also carries moments in them (J2 1.0 N*m, J4 0.6 N*m)
+    # and so shares the lower arms' load a little differently; it was 0.005 mm before issue
+    # 24, the wheel load then acting 0.5 mm off the tyre's lowest point in the as-built
+    assert max(j.error_vs_truth_mm for j in result.joints.values()) < 0.03
 
 
 def test_csv_files_identify_like_iges(tmp_path, ident):

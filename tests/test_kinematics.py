@@ -23,7 +23,9 @@ def loop_closure_curves(s, pad_z):
     Unknown: the knuckle pose (rotation vector r, translation t) relative to the design.
     With the bushings replaced by spherical joints the arms are links J1-J8 and J2-J7, the
     tie rod a link J3-J6, the strut rod pivots at J4 and slides/turns in the knuckle's tube
-    (axis J5->J4, so J4 stays on the knuckle's strut axis); the pad sets the patch height.
+    (axis J5->J4, so J4 stays on the knuckle's strut axis); the pad sets the height of the
+    wheel's lowest point (the contact point, wherever the knuckle's pitch puts it on the
+    tyre).
     """
     hp = s.hardpoints
     patch = s.wheel.contact_patch_mm
@@ -40,15 +42,23 @@ def loop_closure_curves(s, pad_z):
         res = [np.linalg.norm(moved(hp[b]) - hp[a]) - length
                for (a, b), length in zip(links, lengths)]
         res += list(np.cross(hp["J4"] - moved(hp["J5"]), R @ axis0))
-        res.append(moved(patch)[2] - patch[2] - dz)
+        # the pad holds the wheel's lowest point: the loaded radius below the centre,
+        # reduced by the spin axis' vertical component (the wheel plane's tilt)
+        spin = R @ s.wheel.spin_axis
+        lowest = moved(s.wheel.centre_mm)[2] - s.wheel.loaded_radius_mm * np.sqrt(
+            1.0 - spin[2] ** 2)
+        res.append(lowest - patch[2] - dz)
         return np.array(res)
 
     x = np.zeros(6)
     toe, camber = [], []
     for dz in pad_z:
-        sol = least_squares(residual, x, args=(dz,), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        # solved for x + 1: least_squares' step tolerance is relative to |x|, which at the
+        # design position (x ~ 1e-14 on the return to it) would stop it before its first step
+        sol = least_squares(lambda y, dz: residual(y - 1.0, dz), x + 1.0, args=(dz,),
+                            xtol=1e-15, ftol=1e-15, gtol=1e-15)
         assert np.max(np.abs(sol.fun)) < 1e-9
-        x = sol.x
+        x = sol.x - 1.0
         spin = Rotation.from_rotvec(x[:3]).as_matrix() @ s.wheel.spin_axis
         toe.append(toe_deg(spin, s.forward, s.outboard))
         camber.append(camber_deg(spin, s.forward, s.outboard, s.up))

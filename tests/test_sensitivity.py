@@ -101,7 +101,11 @@ def test_sensitivities_match_full_reruns_on_every_channel(case_fit, reruns):
     differences of two full re-runs. Tolerance 1e-4 of the curve's largest derivative: the
     re-runs' truncation (1e-3 of each variable's typical size: ~1e-6) and rounding leave
     ~1e-5 (measured: 1.5e-5 at worst; with forward instead of central differences in the
-    sensitivities' coordinates it was 1.2e-4, and this test failed)."""
+    sensitivities' coordinates it was 1.2e-4, and this test failed). A channel that the
+    parameter moves by less than 1e-6 (mm or deg) over the re-runs' step is not checked: a
+    re-run's step ends anywhere within the Newton tolerance (8e-11 mm apart measured, with
+    the pad's load at the tyre's lowest point: wheel travel under aligning torque moves
+    4.6e-7 mm over the J1 cubic's step), which resolves no 1e-4 of such a change."""
     res, params, x, steps = case_fit
     _, exact, plus_minus = reruns
     checked = 0
@@ -112,7 +116,7 @@ def test_sensitivities_match_full_reruns_on_every_channel(case_fit, reruns):
             for channel, tangent in sw.tangents.items():
                 fd = (a.columns[channel] - b.columns[channel]) / (2 * h)
                 size = float(np.max(np.abs(fd)))
-                if size < 1e-6:  # the parameter does not move this channel
+                if size * 2 * h < 1e-6:  # below what the re-runs resolve (docstring)
                     continue
                 err = float(np.max(np.abs(tangent[:, j] - fd))) / size
                 assert err <= 1e-4, (p.label, sw.load_case, channel, err)

@@ -3,12 +3,15 @@ parameters set in place has the residual of a model built for that design (bit f
 any state), and gets its own back afterwards; a change it cannot take in place (a nonlinear
 bushing law) builds a model."""
 
+import copy
+
 import numpy as np
 import pytest
 
 from elastokin.config.design_variables import DesignVariable, design_suspension
 from elastokin.config.loading import read_yaml
 from elastokin.config.variants import DesignState
+from elastokin.errors import ModelError
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import SuspensionModel
 from elastokin.mbs.sensitivity import Residual
@@ -77,3 +80,21 @@ def test_a_nonlinear_bushing_law_is_no_change_in_place():
     model = build_model(s)
     twin = twin_model(model, design_suspension(s, [v], [1.1]), design_state(s))
     assert not twin.in_place and twin.model is not model
+
+
+def test_a_change_the_rig_compiled_in_after_the_twin_was_made_is_refused():
+    """The contact load (mbs/contact.py) compiles the wheel's loaded radius into its user
+    function when the rig attaches it, after the twins were made: a twin with another radius
+    is then refused by name, never evaluated with the model's radius."""
+    data = read_yaml(ROOT / "configs" / "double_wishbone_axle.yaml")[0]
+    s = make_suspension(copy.deepcopy(data), "radius.yaml")
+    data["wheel"]["loaded_radius_mm"] += 5.0
+    other = make_suspension(data, "radius.yaml")
+    design = design_state(s)
+    model = build_model(s, design=design)
+    twin = twin_model(model, other, design)
+    assert twin.in_place
+    attach_pads(model)
+    with pytest.raises(ModelError, match="loaded radius"):
+        with twin.applied():
+            pass

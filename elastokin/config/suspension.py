@@ -32,6 +32,7 @@ from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.schema_rig import RigSpec
 from elastokin.errors import ConfigError
 from elastokin.physics.laws import DirectionLaw
+from elastokin.physics.steering_geometry import contact_point
 
 # ----------------------------------------------------------------------------------------------
 # Resolved model description (plain numbers, no names left to look up)
@@ -166,10 +167,11 @@ class Wheel(ReadOnlyArrays):
 
     @property
     def contact_patch_mm(self) -> np.ndarray:
-        """Contact patch at design: below the centre in the wheel plane (config frame)."""
-        down = np.array([0.0, 0.0, -1.0])
-        radial = down - (down @ self.spin_axis) * self.spin_axis
-        return self.centre_mm + self.loaded_radius_mm * radial / np.linalg.norm(radial)
+        """Contact point at design (config frame, z up): the wheel's lowest point, the loaded
+        radius below the centre in the wheel plane
+        (:func:`~elastokin.physics.steering_geometry.contact_point`, as at every rig step)."""
+        return contact_point(self.centre_mm, self.spin_axis, self.loaded_radius_mm,
+                             np.array([0.0, 0.0, 1.0]))
 
 
 @dataclass(frozen=True)

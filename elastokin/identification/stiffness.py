@@ -36,7 +36,7 @@ from elastokin.mbs.sensitivity import LawVariation
 from elastokin.physics.laws import ProgressiveLaw
 from elastokin.rig.channels import CHANNELS, FITTED_CHANNELS, LOAD_CASES
 from elastokin.rig.comparison import curve_residuals, model_errors, rig_for_test
-from elastokin.rig.load_cases import drives, run_drive
+from elastokin.rig.load_cases import drives, run_drive, static_states
 from elastokin.rig.sweeps import Sweep
 
 #: parameter -> (first direction, kind, unit); translations are directions 0-2, rotations 3-5
@@ -203,7 +203,8 @@ class Residuals:
         self.evaluations += 1
         model = self.model(values)
         chosen = range(len(self.drives)) if indices is None else indices
-        return [run_drive(model, "fit", self.drives[i], variations) for i in chosen]
+        static = static_states(model)
+        return [run_drive(model, "fit", self.drives[i], variations, static) for i in chosen]
 
     def channels(self, test: Sweep) -> list[str]:
         x = LOAD_CASES[test.load_case].input

@@ -35,11 +35,12 @@ class Attachments:
             return self.ground
         return self.body[part] if part in self.body else self.rig_bodies[part]
 
-    def add_rig_body(self, name: str, point_mm, held: Iterable[int]) -> str:
-        """A rigid body of the rig (not a part of the suspension: no pose recorded) at
-        ``point_mm`` (config frame), held to ground in the ``held`` directions (6 flags,
-        config frame) by a support named ``name`` that every solve keeps (a lock at offset
-        0); supports and loads of parts can act against it (``base``). Returns ``name``."""
+    def add_rig_body(self, name: str, point_mm, held: Iterable[int] | None = None) -> str:
+        """A massless body that is no suspension part (no pose recorded: a rig's body, a
+        wheel's contact arm, :mod:`elastokin.mbs.contact`) at ``point_mm`` (config frame);
+        ``held``: held to ground in those directions (6 flags) by a support ``name`` every
+        solve keeps (a lock at 0), else the caller joins it; supports and loads of parts can
+        act against it (``base``). Returns ``name``."""
         if name in self.rig_bodies:
             raise ModelError(f"{self.suspension.source}: rig body '{name}' exists already")
         ref = np.asarray(self.references.get(name, point_mm), float)
@@ -50,6 +51,8 @@ class Attachments:
         self.rig_nodes[name] = self.mbs.GetObject(self.rig_bodies[name])["nodeNumber"]
         if self.options.loads:  # the rig's loads on the parts are reported where they act
             self._add_pose_sensors(name, self.rig_bodies[name])
+        if held is None:
+            return name
         return self.add_support(name, name, ref, held, lock=np.zeros(6))
 
     def set_support_axes(self, name: str, constrained: Iterable[int]) -> None:

@@ -18,6 +18,7 @@ from elastokin.config.variants import DesignState, ModelVariant, compliant, kine
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs.assembly import system_jacobian
 from elastokin.mbs.bushings import BALANCING_ROTATION
+from elastokin.mbs.contact import contact_arm
 from elastokin.mbs.exudyn_api import exudyn_call
 from elastokin.mbs.idle import hold_idle_spins
 from elastokin.mbs.model import ModelOptions, SuspensionModel
@@ -35,11 +36,12 @@ HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
 def hold_contact_patches(model: SuspensionModel) -> dict[str, str]:
-    """Supports holding every wheel's contact patch at its design height (x, y free), by
-    side (the config side's named :data:`PATCH_SUPPORT`)."""
+    """Supports holding every wheel's contact point (its lowest point, as the rig's pad:
+    :mod:`elastokin.mbs.contact`) at its design height (x, y free), by side (the config
+    side's named :data:`PATCH_SUPPORT`)."""
     s = model.suspension
     return {side: model.add_support(PATCH_SUPPORT if side == s.side
-                                    else f"{PATCH_SUPPORT}:{side}", w.part,
+                                    else f"{PATCH_SUPPORT}:{side}", contact_arm(model, side),
                                     lambda x, side=side: x.wheels[side].contact_patch_mm,
                                     HOLD_Z)
             for side, w in s.wheels.items()}
@@ -57,9 +59,10 @@ def balanced_springs(suspension: Suspension) -> tuple[str, ...]:
 @dataclass
 class BalancingSolve:
     """One solve of the design balancing (:func:`design_state` with ``record``): the pass
-    (0, or 1 after the stiff springs were relaxed), the model and its contact-patch supports
-    by side, the balanced springs' forces (N), the stiff springs' offsets (rad), whether the
-    idle spins were held, and the converged coordinates and multipliers."""
+    (0, then 1 and 2 after each relaxation of the stiff springs), the model and its
+    contact-patch supports by side, the balanced springs' forces (N), the stiff springs'
+    offsets (rad), whether the idle spins were held, and the converged coordinates and
+    multipliers."""
 
     pass_index: int
     model: SuspensionModel
@@ -79,118 +82,114 @@ def design_state(suspension: Suspension, record: list | None = None) -> DesignSt
     a structure whose loads are linear in the balanced spring's force P: two solves give the P
     at which the contact patch carries the wheel load, a third the loads each bushing
     transmits at that P, which become the bushing preloads; the balance is solved again with
-    the stiff springs relaxed at the rotations their torques caused. Otherwise the compliant
-    model is used and P found by the secant method. ``record``: every balancing solve is
-    appended to it (:class:`BalancingSolve`; the design sensitivities,
+    the stiff springs relaxed at the rotations their torques caused (twice). Otherwise the
+    compliant model is used and P found by the secant method. ``record``: every balancing
+    solve is appended to it (:class:`BalancingSolve`; the design sensitivities,
     :mod:`elastokin.mbs.design_tangents`).
     """
     s = compliant(suspension)  # a bushing modelled kinematically keeps its design load
     check_assembly(s)
-    unbalanced = unbalanced_design(s)
-    if s.design.balance_spring is None and not s.design.balance_bushing_preloads:
-        return unbalanced
-    springs, preload = unbalanced.spring_force_N, unbalanced.bushing_preload
-    ideal = s.design.balance_bushing_preloads  # bushings held by their ideal joints
-    idle = [False]  # idle spins held: only when the plain balancing does not solve
-    offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
-    balanced = balanced_springs(s)
-    built: dict = {}  # one model per pass, its balanced springs' forces set in place
-
-    def solve(p: np.ndarray):
-        forces = dict(springs)
-        forces.update(zip(balanced, (float(v) for v in p)))
-        key = (idle[0], bool(offsets))  # the offsets are set between the passes
-        if key in built:
-            model, supports = built[key]
-            set_spring_forces(model, {name: forces[name] for name in balanced})
-        else:
-            model, supports = built[key] = balancing_model(
-                s, DesignState(forces, preload), ideal, offsets, idle[0])
-        state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
-                           "balancing the design position")[0]
-        loads = model.balancing_bushing_loads() if ideal else state.bushing_load
-        pads = np.array([0.0 + state.support_force_N[supports[side]][2] for side in s.sides])
-        if record is not None:
-            sd = model.mbs.systemData
-            record.append(BalancingSolve(
-                int(bool(offsets)), model, supports, np.asarray(p, float).copy(),
-                {k: v.copy() for k, v in offsets.items()}, idle[0],
-                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
-        return pads, loads
-
-    def balance():
-        if not balanced:
-            return np.zeros(0), solve(np.zeros(0))[1]
-        if len(balanced) == 1:
-            p, loads = _balance_spring(s, lambda p: _first(solve(np.array([p]))))
-            return np.array([p]), loads
-        return _balance_springs(s, balanced, solve)
-
+    d = s.design
+    springs = {sp.name: sp.design_force_N() for sp in s.springs}
+    preload = {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
+               for b in s.bushings}
+    if d.balance_spring is None and not d.balance_bushing_preloads:
+        return DesignState(springs, preload)
+    run = _Balancing(s, springs, preload, record)
     try:
-        p1, loads = balance()
+        p1, loads = run.balance()
     except SolverError:
         # e.g. spring seats off the strut axis turn the strut rod, which only the ideal
         # joints' regularising rates hold: again with the idle spins held (mbs.idle)
-        if not ideal:
+        if not run.ideal:
             raise
-        idle[0] = True
-        p1, loads = balance()
-    if ideal:
+        run.idle = True
+        p1, loads = run.balance()
+    if run.ideal:
         # the stiff springs' rotation under the bushings' design torques moves the parts off
         # the design position (a 1.3e6 N*mm torque turns 1.3e-3 rad: 0.3 mm at a 250 mm
-        # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it
-        offsets.update(relaxation_offsets(s, loads))
-        if any(np.any(v) for v in offsets.values()):
-            p1, loads = balance()
-    return balanced_design(unbalanced, balanced, p1, loads, ideal)
-
-
-def unbalanced_design(suspension: Suspension) -> DesignState:
-    """The design state before any balancing: each spring's own design force (N), each
-    bushing's load at its initial deflection (N, N*mm)."""
-    return DesignState({sp.name: sp.design_force_N() for sp in suspension.springs},
-                       {b.name: np.array([law(u) for law, u in zip(b.laws, b.initial_deflection)])
-                        for b in suspension.bushings})
-
-
-def balancing_model(suspension: Suspension, design: DesignState, ideal: bool,
-                    offsets: dict[str, np.ndarray], idle: bool
-                    ) -> tuple[SuspensionModel, dict[str, str]]:
-    """A model of the design balancing and its contact-patch supports by side: the bushings
-    held by their ideal joints when ``ideal`` (their stiff rotational springs at ``offsets``,
-    rad), the idle spins held when ``idle``."""
-    model = SuspensionModel(suspension, ModelOptions(), design, balancing=ideal,
-                            balancing_offsets=offsets)
-    if idle:
-        hold_idle_spins(model)
-    return model, hold_contact_patches(model)
-
-
-def relaxation_offsets(suspension: Suspension, loads: dict[str, np.ndarray]
-                       ) -> dict[str, np.ndarray]:
-    """The offsets (rad) of the balancing's stiff rotational springs at which each bushing's
-    torques in ``loads`` (N*mm, its last three) are carried at zero rotation, about the axes
-    its ideal joint holds (0 about the others)."""
-    offsets = {}
-    for b in suspension.bushings:
-        held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
-        # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
-        offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
-    return offsets
-
-
-def balanced_design(unbalanced: DesignState, balanced: tuple[str, ...], forces: np.ndarray,
-                    loads: dict[str, np.ndarray], ideal: bool) -> DesignState:
-    """The design state after the balancing: the ``balanced`` springs at ``forces`` (N);
-    the bushing preloads the balancing's bushing ``loads`` (N, N*mm) when the bushings were
-    held by their ideal joints (``ideal``) or no spring was balanced, else those of
-    ``unbalanced``."""
-    springs = dict(unbalanced.spring_force_N)
-    springs.update(zip(balanced, (float(v) for v in forces)))
-    preload = unbalanced.bushing_preload
-    if ideal or not balanced:
+        # arm); balanced again with the springs relaxed at those rotations, it is ~1e-3 of it,
+        # and after a second relaxation ~1e-6: the pad holds the tyre's lowest point, which
+        # the knuckle's pitch moves by the loaded radius times it (1e-6 rad left the double
+        # wishbone's static pad load 2.6e-3 N and its wheel centre 7e-5 mm off the design)
+        for _ in range(2):
+            if run.relax(loads):
+                p1, loads = run.balance()
+    if not run.balanced:
+        return DesignState(springs, {n: v.copy() for n, v in loads.items()})
+    springs.update(zip(run.balanced, (float(v) for v in p1)))
+    if run.ideal:
         preload = {n: v.copy() for n, v in loads.items()}
     return DesignState(springs, preload)
+
+
+class _Balancing:
+    """The solves of :func:`design_state` on suspension ``s`` (compliant) with the springs'
+    and bushings' preloads of its config: one balancing model per pass (built once, the
+    balanced springs' forces set in place between its solves)."""
+
+    def __init__(self, s: Suspension, springs: dict, preload: dict, record: list | None):
+        self.s, self.springs, self.preload, self.record = s, springs, preload, record
+        self.ideal = s.design.balance_bushing_preloads  # bushings held by their ideal joints
+        self.idle = False  # idle spins held: only when the plain balancing does not solve
+        self.offsets: dict[str, np.ndarray] = {}  # the stiff rotational springs' (rad)
+        self.relaxed = 0  # the relaxations of the stiff springs so far (the pass)
+        self.balanced = balanced_springs(s)
+        self.built: dict = {}
+
+    def model(self, forces: dict) -> tuple[SuspensionModel, dict[str, str]]:
+        """This pass's balancing model with the springs at ``forces`` (N), and its supports."""
+        key = (self.idle, self.relaxed)  # the offsets change between the passes
+        if key in self.built:
+            model, supports = self.built[key]
+            set_spring_forces(model, {name: forces[name] for name in self.balanced})
+            return model, supports
+        model = SuspensionModel(self.s, ModelOptions(), DesignState(forces, self.preload),
+                                balancing=self.ideal, balancing_offsets=self.offsets)
+        if self.idle:
+            hold_idle_spins(model)
+        self.built[key] = model, hold_contact_patches(model)
+        return self.built[key]
+
+    def solve(self, p: np.ndarray):
+        """(the pads' vertical loads by wheel (N), the bushings' loads) with the balanced
+        springs at forces ``p`` (N)."""
+        forces = dict(self.springs)
+        forces.update(zip(self.balanced, (float(v) for v in p)))
+        model, supports = self.model(forces)
+        state = solve_path(model, {sup: np.zeros((1, 6)) for sup in supports.values()},
+                           "balancing the design position")[0]
+        loads = model.balancing_bushing_loads() if self.ideal else state.bushing_load
+        pads = np.array([0.0 + state.support_force_N[supports[side]][2]
+                         for side in self.s.sides])
+        if self.record is not None:
+            sd = model.mbs.systemData
+            self.record.append(BalancingSolve(
+                self.relaxed, model, supports, np.asarray(p, float).copy(),
+                {k: v.copy() for k, v in self.offsets.items()}, self.idle,
+                np.array(sd.GetODE2Coordinates()), np.array(sd.GetAECoordinates())))
+        return pads, loads
+
+    def balance(self):
+        """(the balanced springs' forces, the bushings' loads) of one pass."""
+        if not self.balanced:
+            return np.zeros(0), self.solve(np.zeros(0))[1]
+        if len(self.balanced) == 1:
+            p, loads = _balance_spring(self.s, lambda p: _first(self.solve(np.array([p]))))
+            return np.array([p]), loads
+        return _balance_springs(self.s, self.balanced, self.solve)
+
+    def relax(self, loads: dict) -> bool:
+        """Relax the stiff springs at the rotations the bushings' ``loads`` give them; whether
+        any turns (then the next pass)."""
+        for b in self.s.bushings:
+            held = np.array(CONSTRAINED[b.ideal_joint][3:], bool)
+            # Exudyn's spring torque is k (rotation - offset): -M/k carries M at rotation 0
+            self.offsets[b.name] = np.where(held, -loads[b.name][3:] / BALANCING_ROTATION, 0.0)
+        if not any(np.any(v) for v in self.offsets.values()):
+            return False
+        self.relaxed += 1
+        return True
 
 
 def set_spring_forces(model: SuspensionModel, forces: dict[str, float]) -> None:

@@ -15,8 +15,8 @@ from the springs' reference lengths (the residual is linear in P), dpad/dy by ce
 differences of the pads' reaction, and dR/dp_k, dpad/dp_k from twin balancing models at
 ``p +- step`` (:mod:`elastokin.mbs.twins`). The bushing preloads are the balancing model's
 bushing loads, read on the twins at ``y +- step dy/dp``. With the stiff rotational springs
-relaxed in a second pass (their offsets from the first pass's torques), the first pass's
-derivatives move the second's offsets. Springs and bushings that are not balanced keep the
+relaxed in a further pass (their offsets from the pass before's torques; twice), each
+pass's derivatives move the next one's offsets. Springs and bushings that are not balanced keep the
 loads their config gives, whose derivatives are explicit.
 
 Units: N (springs), N and N*mm (bushing loads, bushing frame), per unit of each variable.

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elastokin.mbs.contact import arm_name
 from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.model import SuspensionModel
 
@@ -80,15 +81,28 @@ def forces_on_part(model: SuspensionModel, part: str) -> dict[str, np.ndarray]:
 
 
 def _attachment_forces(model: SuspensionModel, part: str, out: dict) -> None:
+    """Supports and loads on ``part``; a support on a wheel's contact arm acts on its wheel
+    part (the massless arm passes the force on through its joint,
+    :mod:`elastokin.mbs.contact`)."""
     mbs = model.mbs
+    ovt = exu.OutputVariableType
+    carrier = {arm_name(side): w.part for side, w in model.suspension.wheels.items()}
+
+    def add(name: str, force) -> None:
+        owner = name.partition(":")[0]
+        force = np.asarray(force, float)
+        out[owner] = out[owner] + force if owner in out else force
+
     for name, e in model.supports.items():
-        if e["part"] == part and mbs.GetObjectParameter(e["object"], "activeConnector"):
-            owner = name.partition(":")[0]
-            force = np.asarray(mbs.GetObjectOutput(e["object"],
-                                                   exu.OutputVariableType.ForceLocal))
-            out[owner] = out[owner] + force if owner in out else force
+        if carrier.get(e["part"], e["part"]) == part \
+                and mbs.GetObjectParameter(e["object"], "activeConnector"):
+            add(name, mbs.GetObjectOutput(e["object"], ovt.ForceLocal))
     for name, e in model.loads.items():
-        if e["part"] == part and e["kind"] == "force":
-            owner = name.partition(":")[0]
-            force = np.asarray(mbs.GetLoadValues(e["load"]))
-            out[owner] = out[owner] + force if owner in out else force
+        if e["part"] != part:
+            continue
+        if e["kind"] == "force":
+            add(name, mbs.GetLoadValues(e["load"]))
+        elif e["kind"] == "contact" and mbs.GetObjectParameter(e["object"],
+                                                               "activeConnector"):
+            # the connector's loads are those on its first body, the ground
+            add(name, -np.asarray(mbs.GetObjectOutput(e["object"], ovt.ForceLocal)))

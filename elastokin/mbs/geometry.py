@@ -96,11 +96,12 @@ class Geometry:
         return [getter(suspension, preloads) for _, _, _, getter in self.entries[start:]]
 
     def shares_fixed(self, model_suspension, model_preloads: ItemPreloads, suspension,
-                     preloads: ItemPreloads) -> bool:
-        """Whether a twin (``suspension``, ``preloads``) has the model's fixed values."""
+                     preloads: ItemPreloads, start: int = 0) -> bool:
+        """Whether a twin (``suspension``, ``preloads``) has the model's fixed values (from
+        getter ``start`` on)."""
         return self.in_place and all(
             same(g(model_suspension, model_preloads), g(suspension, preloads))
-            for g in self.fixed)
+            for g in self.fixed[start:])
 
 
 def same(a, b) -> bool:

@@ -71,8 +71,8 @@ class _Marker:
     """Where a marker is: on the body or node whose pose is recorded as ``part:<key>:R``,
     ``part:<key>:disp`` (None: the ground) at ``local`` (relative to its reference point
     ``ref``, design position) with axes ``rotation`` (columns, in its frame); ``part``: the
-    suspension's part it belongs to (a beam part's for its nodes; the ground's; None: a rig
-    body)."""
+    suspension's part it belongs to (a beam part's for its nodes; the ground's, also for a
+    rig body)."""
 
     key: str | None
     local: np.ndarray
@@ -161,8 +161,9 @@ class LoadRecorder:
 
     def _add_load(self, number: int) -> None:
         model, mbs = self.model, self.model.mbs
-        entry = next(((n, e) for n, e in model.loads.items() if int(e["load"]) == number),
-                     None)
+        # (a contact load is an object: mbs.contact)
+        entry = next(((n, e) for n, e in model.loads.items()
+                      if "load" in e and int(e["load"]) == number), None)
         if entry is None:
             return
         name, e = entry
@@ -207,8 +208,10 @@ class LoadRecorder:
         if key is None:
             raise ModelError(f"{model.suspension.source}: loads cannot be recorded on body "
                              f"{body}: it is no part of the model")
+        # a rig body (the heave beam, a wheel's contact arm: mbs.contact) is on the rig's side,
+        # the ground's: the contact arm's joint then reports the pad's load on the wheel part
         return _Marker(key, local, rotation, model.ref[key],
-                       key if key in model.body else None)
+                       key if key in model.body else model.suspension.ground)
 
     def _moving(self, marker: _Marker) -> bool:
         """Whether the marker is on a moving part of the suspension."""

@@ -24,6 +24,10 @@ class ModelOptions:
         fit and its sensitivities, :mod:`elastokin.mbs.sensitivity`).
     record_loads: record the load of every element at every step (``ModelState.loads``,
         :mod:`elastokin.mbs.loads`); needs ``part_poses``.
+    discontinuous_iterations: passes of the static solver's discontinuous iteration; None:
+        one for a frictionless model (no item of it acts after a Newton step: issue 28, the
+        same results), Exudyn's default otherwise; 5 is the set-up before issue 28
+        (``benchmarks/bench_kc.py`` times both).
     """
 
     stiffness_scale: float = 1.0
@@ -31,6 +35,7 @@ class ModelOptions:
     part_poses: bool = True
     parametric_bushings: tuple[str, ...] = ()
     record_loads: bool = True
+    discontinuous_iterations: int | None = None
 
     @property
     def loads(self) -> bool:

@@ -17,6 +17,7 @@ from exudyn.advancedUtilities import CreateSymbolicUserFunction
 from elastokin.errors import ModelError, SolverError
 from elastokin.mbs import friction
 from elastokin.mbs.assembly import free_parts, free_parts_message
+from elastokin.mbs.contact import set_contact_path
 from elastokin.mbs.exudyn_api import exu, exudyn_call
 from elastokin.mbs.model import DEG, SuspensionModel
 from elastokin.mbs.user_functions import make_path_function
@@ -46,7 +47,9 @@ def simulation_settings(model: SuspensionModel, steps: int):
     # item of a frictionless model acts after a Newton step). (The loads' Jacobian is not
     # nothing: a force at a point of a turning part has one; leaving it out changed the force
     # cases at 1e-7.)
-    if not model.friction:
+    if model.options.discontinuous_iterations is not None:
+        st.discontinuous.maxIterations = model.options.discontinuous_iterations
+    elif not model.friction:
         st.discontinuous.maxIterations = 1
     return ss
 
@@ -136,7 +139,10 @@ def set_attachment_paths(model: SuspensionModel, inputs, ts: np.ndarray, n: int)
     applied = {}
     for name, e in model.loads.items():
         v = inputs.get(name, np.zeros((n, 3)))
-        set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
+        if e["kind"] == "contact":  # a force at the tyre's contact point (mbs.contact)
+            set_contact_path(model, name, ts, np.vstack([v[:1], v]))
+        else:
+            set_path(model, "load", e["load"], ts, np.vstack([v[:1], v]))
         applied[name] = v
     for name, e in model.supports.items():
         active = name in inputs or name in model.locks
@@ -268,7 +274,8 @@ def combined_sensors(data: dict[str, np.ndarray], model: SuspensionModel
             continue
         design = np.array([model.beams[part].frames[n] for n in line])
         R = np.stack([data.pop(f"part:node:{n}:R") for n in line], axis=1)
-        data[f"beam:{part}:node_R"] = R.reshape(len(R), -1, 3, 3) @ np.swapaxes(design, 1, 2)
+        R = R.reshape(len(R), len(line), 3, 3)  # (not -1: a run that reached no step has 0)
+        data[f"beam:{part}:node_R"] = R @ np.swapaxes(design, 1, 2)
         data[f"beam:{part}:node_x"] = np.stack([data.pop(f"part:node:{n}:disp")
                                                 for n in line], axis=1)
     return data

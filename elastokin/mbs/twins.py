@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.errors import ModelError
+from elastokin.mbs.contact import set_contact_function
 from elastokin.mbs.exudyn_api import exu
 from elastokin.mbs.geometry import item_preloads, same, set_parameter
 from elastokin.mbs.model import SuspensionModel
@@ -69,6 +70,7 @@ class Twin:
         in_place = model.geometry.shares_fixed(model.suspension, model.preloads, suspension,
                                                self.preloads)
         self.model = model if in_place else build()
+        self._fixed = len(model.geometry.fixed)  # the fixed values checked so far
         self._values: list = []
         self._changed: list[int] = []  # the entries whose values differ from the model's
 
@@ -90,6 +92,13 @@ class Twin:
             yield self.model
             return
         model, g = self.base, self.base.geometry
+        if len(g.fixed) > self._fixed:  # items added since the twin was made (the rig's)
+            if not g.shares_fixed(model.suspension, model.preloads, self.suspension,
+                                  self.preloads, self._fixed):
+                raise ModelError(f"{self.suspension.source}: a design variable changes what "
+                                 "the rig attached to the model after its twins were made "
+                                 "cannot take in place (e.g. a wheel's loaded radius)")
+            self._fixed = len(g.fixed)
         start = len(self._values)
         self._values += g.values(self.suspension, self.preloads, start)
         own = base_values(model)
@@ -274,6 +283,13 @@ class StepInputs:
         for name, e in model.loads.items():
             v = np.asarray(inputs.get(name, np.zeros((n, 3))), float).reshape(n, -1)
             self.values[name] = v
+            if e.get("kind") == "contact":  # a force at the wheel's lowest point (mbs.contact)
+                if np.any(v):
+                    set_contact_function(model, name,
+                                         lambda mbs, t, _, name=name: self.current[name])
+                else:
+                    mbs.SetObjectParameter(e["object"], "activeConnector", False)
+                continue
             mbs.SetLoadParameter(e["load"], "loadVectorUserFunction",
                                  lambda mbs, t, vector, name=name: self.current[name])
         for name, e in model.supports.items():
@@ -353,9 +369,9 @@ def sensor_arrays(model: SuspensionModel, res: Residual, times, q: np.ndarray,
         return model.ref[part] + disp[part] + rot[part] @ local
 
     data: dict[str, np.ndarray] = {}
-    # the parts' poses, and the rig bodies' where recorded (the loads' frames)
-    for name in [*model.pose_refs, *(b for b in model.rig_bodies
-                                     if f"part:{b}:R" in model.sensors)]:
+    # the parts' poses, and the rig bodies' where they are recorded (the load recorder's)
+    for name in [*model.pose_refs, *(b for b in model.rig_bodies if b not in model.pose_refs
+                                     and f"part:{b}:R" in model.sensors)]:
         data[f"part:{name}:R"] = rot[name].reshape(-1, 9)
         data[f"part:{name}:disp"] = disp[name]
     for name, (part, local) in model.point_sensors.items():

@@ -67,13 +67,15 @@ def max_function(symbolic: bool):
     return exu.symbolic.max if symbolic else _max
 
 
-def attach_user_function(model, obj: int, parameter: str, function, symbolic: bool) -> None:
+def attach_user_function(model, obj: int, parameter: str, function, symbolic: bool,
+                         keep: list | None = None) -> None:
     """Set ``function`` as the user function ``parameter`` of object ``obj``; symbolic: as
-    Exudyn's symbolic function (its expression tree kept with the model, which it must
-    outlive)."""
+    Exudyn's symbolic function, its expression tree kept in ``keep`` (default: with the
+    model's bushing laws, for the model's life; a rig path's with the current solve's,
+    ``model.keep_alive``), which it must outlive."""
     if symbolic:
         function = CreateSymbolicUserFunction(model.mbs, function, parameter, obj)
-        model.bushing_functions.append(function)
+        (model.bushing_functions if keep is None else keep).append(function)
     model.mbs.SetObjectParameter(obj, parameter, function)
 
 

@@ -24,6 +24,7 @@ from elastokin.report.axle_charts import (
     AXLE_CHART_LIST,
     AxleChartInputs,
     axle_chart_data,
+    axle_chart_inputs,
     draw_axle_chart,
     wheel_sweeps,
 )
@@ -300,3 +301,15 @@ def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
     finally:
         _JOBS.clear()
     return [path for i in sorted(done) for path in done[i]]
+
+
+def draw_kc_charts(summary: dict, sweeps: list[Sweep], folder: Path, svg: bool = False
+                   ) -> list[Path]:
+    """The charts of K&C results read back (:func:`elastokin.report.files.read_results`: the
+    summary and the sweeps), drawn into ``folder`` as ``elastokin kc`` draws them (PNG; with
+    ``svg`` also SVG; the axle's charts with the summary's axle figures). Returns the files
+    written."""
+    prov = {k: summary.get(k) for k in ("elastokin_version", "exudyn_version", "config_file",
+                                          "config_sha256", "rig_file", "rig_sha256", "units")}
+    return kc_charts(sweeps, Path(folder), prov, summary.get("errors"), svg,
+                     axle_chart_inputs(summary))

@@ -36,23 +36,24 @@ def design_track_mm(suspension: Suspension) -> float:
 
 
 def axle_columns(by_side: dict[str, list[StepState] | WheelArrays], suspension: Suspension,
-                 drive
-                 ) -> dict[str, np.ndarray]:
+                 drive, static: dict[str, StepState]) -> dict[str, np.ndarray]:
     """The axle's columns of one load case (the same in every wheel's sweep):
-    ``roll_angle_deg`` and ``roll_moment_Nmm`` from both wheels, the anti-roll bar's
-    ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel (in opposite wheel travel on
-    an axle joined by a flexible beam: ``Suspension.shared_beams``) the kinematic
-    ``roll_centre_height_mm`` (above the contact points' mean height) and
+    ``roll_angle_deg`` (from each wheel's travel from its ``static`` state, the model's own
+    static state under the design wheel loads) and ``roll_moment_Nmm`` from both wheels, the
+    anti-roll bar's ``arb_twist_deg`` and ``arb_torque_Nmm``; in parallel travel (in opposite
+    wheel travel on an axle joined by a flexible beam: ``Suspension.shared_beams``) the
+    kinematic ``roll_centre_height_mm`` (above the contact points' mean height) and
     ``roll_centre_lateral_mm`` (ISO y, + left): each wheel's instant centre from its motion
     along the sweep, or on a dependent axle (:func:`dependent_axle`) the instant centre of
-    the axle's roll motion at each step (:func:`roll_contact_velocities`)."""
+    the axle's roll motion at each step (:func:`roll_contact_velocities`). The contact points
+    are the wheels' lowest points (``StepState.contact_patch_mm``)."""
     s = suspension
     T = iso_rotation(s)
     wheel = {side: WheelArrays.of(by_side[side]) for side in ("left", "right")}
     patch = {side: a.contact_patch_mm @ T.T for side, a in wheel.items()}
     centre = {side: a.wheel_centre_mm @ T.T for side, a in wheel.items()}
-    design_centre = {side: T @ s.wheels[side].centre_mm for side in ("left", "right")}
-    travel = {side: centre[side][:, 2] - design_centre[side][2] for side in centre}
+    travel = {side: centre[side][:, 2] - (T @ static[side].wheel_centre_mm)[2]
+              for side in centre}
     track = design_track_mm(s)
     fz = {side: np.array([(T @ f)[2] for f in a.pad_force_N]) for side, a in wheel.items()}
     cols = {"roll_angle_deg": roll_angle_deg(travel["left"], travel["right"], track),
@@ -71,7 +72,8 @@ def axle_columns(by_side: dict[str, list[StepState] | WheelArrays], suspension: 
             steps = by_side[s.side]
             if isinstance(steps, WheelArrays):
                 steps = [steps.step(i) for i in range(len(steps))]
-            velocity = roll_contact_velocities(steps, s)
+            velocity = roll_contact_velocities(steps, s, {
+                side: a.contact_patch_mm for side, a in wheel.items()})
             rc = kinematic_roll_centre(patch["left"], velocity["left"] @ T.T, patch["right"],
                                        velocity["right"] @ T.T)
             cols.update({"roll_centre_height_mm": rc.height_mm,
@@ -109,6 +111,7 @@ def dependent_axle(suspension: Suspension) -> bool:
     if s.axle is None:
         return False
     held = {s.ground} | ({s.axle.steering.part} if s.axle.steering else set())
+    held |= {p for j in s.joints if j.kind == "rack" for p in j.parts}  # a rack held in travel
     pairs = [c.parts for c in (*s.joints, *s.links, *s.bushings)]
     left, right = (s.wheels[side].part for side in ("left", "right"))
     reached, grown = {left}, True
@@ -120,12 +123,14 @@ def dependent_axle(suspension: Suspension) -> bool:
     return right in reached
 
 
-def roll_contact_velocities(states: list[StepState], suspension: Suspension
-                            ) -> dict[str, np.ndarray]:
+def roll_contact_velocities(states: list[StepState], suspension: Suspension,
+                            contact: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Each wheel's contact-point velocity (config frame, (S, 3), per unit vertical rate: +1
     left, -1 right) in the axle's roll motion at every step, from the steps' part poses
     (:mod:`elastokin.physics.roll_motion`: every joint held, bushings as their ideal joints
-    frozen at their deflection, the steering rack held); NaN without poses."""
+    frozen at their deflection, the steering rack held); ``contact``: each wheel's contact
+    point at every step (config frame, (S, 3): its lowest point, where the point of the wheel
+    part moves as the tyre's contact point does in the front view); NaN without poses."""
     s = suspension
     n = len(states)
     if any(st.poses is None for st in states):
@@ -136,12 +141,8 @@ def roll_contact_velocities(states: list[StepState], suspension: Suspension
                 + first.reference_mm[p] for p in first.rotation}
     elements = joint_elements(s, release_rack=False)
     elements += [SkeletonElement("distance", lk.parts, lk.points_mm) for lk in s.links]
-    wheels = {}
-    for side in ("left", "right"):
-        w = s.wheels[side]
-        local = w.contact_patch_mm - first.reference_mm[w.part]
-        wheels[side] = (w.part, np.einsum("sij,j->si", rotation[w.part], local)
-                        + position[w.part])
+    wheels = {side: (s.wheels[side].part, np.asarray(contact[side], float))
+              for side in ("left", "right")}
     motion = roll_motion(s.ground, elements, rotation, position, dict(first.reference_mm),
                          wheels, s.up)
     if motion.reason is not None:

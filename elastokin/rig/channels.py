@@ -43,9 +43,12 @@ class Channel:
         return QUANTITY.get(self.unit, "")
 
 
+STATIC = "from the static state (the model's own under the design wheel load)"
+CONTACT = "contact point (the wheel's lowest point)"
+
 CHANNEL_LIST = (
-    Channel("pad_z_mm", "mm", "prescribed vertical displacement of the contact patch (rig "
-            "input), + up", "pad height [mm] (+ up)", adams="pad_vertical_displacement"),
+    Channel("pad_z_mm", "mm", f"prescribed vertical displacement of the {CONTACT} {STATIC} "
+            "(rig input), + up", "pad height [mm] (+ up)", adams="pad_vertical_displacement"),
     Channel("toe_deg", "deg", "toe angle, positive toe-in (ISO 8855 / SAE J670); 'steer' in "
             "the paper", "toe [deg] (+ toe-in)", test="toe", test_meaning="toe angle, toe-in +",
             adams="toe_angle", fitted=True),
@@ -53,19 +56,17 @@ CHANNEL_LIST = (
             "camber [deg] (+ top outboard)", test="camber",
             test_meaning="camber angle, top of the wheel outboard +", adams="camber_angle",
             fitted=True),
-    Channel("wheel_centre_longitudinal_mm", "mm", "wheel-centre displacement from the design "
-            "position, + forward", "wheel-centre longitudinal displacement [mm] (+ forward)",
+    Channel("wheel_centre_longitudinal_mm", "mm", f"wheel-centre displacement {STATIC}, "
+            "+ forward", "wheel-centre longitudinal displacement [mm] (+ forward)",
             test="wheel_centre_longitudinal", test_meaning="wheel-centre displacement from "
-            "the design position, forward +", adams="wheel_travel_base", fitted=True),
-    Channel("wheel_centre_lateral_mm", "mm", "wheel-centre displacement from the design "
-            "position, + to the vehicle's left",
+            "the static state, forward +", adams="wheel_travel_base", fitted=True),
+    Channel("wheel_centre_lateral_mm", "mm", f"wheel-centre displacement {STATIC}, + left",
             "wheel-centre lateral displacement [mm] (+ left)", test="wheel_centre_lateral",
-            test_meaning="wheel-centre displacement from the design position, outboard +",
+            test_meaning="wheel-centre displacement from the static state, outboard +",
             test_sign="lateral", adams="wheel_travel_track", fitted=True),
-    Channel("wheel_travel_mm", "mm", "wheel-centre vertical displacement from the design "
-            "position, + bump", "wheel travel [mm] (+ bump)", test="wheel_travel",
-            test_meaning="wheel-centre vertical displacement from the design position, bump +",
-            adams="wheel_travel", fitted=True),
+    Channel("wheel_travel_mm", "mm", f"wheel-centre vertical displacement {STATIC}, + bump",
+            "wheel travel [mm] (+ bump)", test="wheel_travel", adams="wheel_travel", fitted=True,
+            test_meaning="wheel-centre vertical displacement from the static state, bump +"),
     *(Channel(f"wheel_centre_{a}_mm", "mm", "wheel-centre coordinate, config frame",
               f"wheel-centre {a} [mm] (config frame)", adams=f"wheel_center_{a}",
               adams_frame=a) for a in "xyz"),
@@ -79,7 +80,7 @@ CHANNEL_LIST = (
             test_meaning="kingpin inclination, steering axis top inboard +",
             adams="kingpin_incl_angle"),
     Channel("scrub_radius_mm", "mm", "ground-plane offset of the steering axis from the "
-            "contact point normal to the wheel/ground line, + axis inboard",
+            f"{CONTACT} normal to the wheel/ground line, + axis inboard",
             "scrub radius [mm] (+ axis inboard)", test="scrub_radius",
             test_meaning="scrub radius, axis meets the ground inboard +", adams="scrub_radius"),
     Channel("caster_trail_mm", "mm", "ground-plane offset of the steering axis from the "
@@ -87,14 +88,14 @@ CHANNEL_LIST = (
             "caster trail [mm] (+ axis ahead)", test="caster_trail",
             test_meaning="caster trail, axis meets the ground ahead +",
             adams="caster_moment_arm"),
-    Channel("track_change_mm", "mm", "contact-point lateral displacement from the design "
-            "position, + outboard (per wheel; the axle's track changes by the sum of both)",
+    Channel("track_change_mm", "mm", f"lateral displacement of the {CONTACT} {STATIC}, + "
+            "outboard (per wheel; the axle's track changes by the sum of both)",
             "track change at the contact patch [mm] (+ outboard)", test="track_change",
             test_meaning="contact-point lateral displacement, outboard +", test_sign="",
             adams="half_track_change"),
-    Channel("wheelbase_change_mm", "mm", "contact-point longitudinal displacement from the "
-            "design position, + when the wheelbase grows (forward on a front axle, rearward "
-            "on a rear one; forward without vehicle data)", "wheelbase change [mm] (+ longer)",
+    Channel("wheelbase_change_mm", "mm", f"longitudinal displacement of the {CONTACT} "
+            f"{STATIC}, + when the wheelbase grows (forward on a front axle, rearward on a rear "
+            "one; forward without vehicle data)", "wheelbase change [mm] (+ longer)",
             test="wheelbase_change", test_meaning="wheelbase change, longer +",
             adams="wheelbase_change"),
     Channel("roll_angle_deg", "deg", "body roll relative to the line through the contact "
@@ -102,8 +103,8 @@ CHANNEL_LIST = (
             "rises (axle)", "roll angle [deg] (+ body's left side up)", test="roll_angle",
             test_meaning="body roll angle, left side up +", adams="roll_angle", per_axle=True),
     Channel("roll_moment_Nmm", "N*mm", "moment the body needs to hold its roll against the "
-            "contact-patch vertical forces, (Fz right - Fz left) * track / 2, + with a "
-            "positive roll (axle)", "roll moment [N*mm]", test="roll_moment",
+            "vertical forces at the contact points, -(y_l Fz_l + y_r Fz_r), + with a positive "
+            "roll (axle)", "roll moment [N*mm]", test="roll_moment",
             test_meaning="roll moment of the vertical forces, + with roll",
             adams="roll_moment", per_axle=True),
     Channel("steering_wheel_angle_deg", "deg", "steering-wheel angle, + turning the wheels "
@@ -115,20 +116,19 @@ CHANNEL_LIST = (
             "(axle with steering)", "rack travel [mm]", test="rack_travel",
             test_meaning="rack travel from the centre along the rack's axis",
             adams="rack_travel", per_axle=True),
-    Channel("steer_angle_deg", "deg", "wheel steer angle, toe change from the static state "
-            "turned into the vehicle's sense: + turning the wheel to the left (both wheels)",
-            "steer angle [deg] (+ left)", test="steer_angle",
-            test_meaning="steer angle, + to the left", adams="steer_angle"),
+    Channel("steer_angle_deg", "deg", f"wheel steer angle, toe change {STATIC}, not from the "
+            "config's design toe, in the vehicle's sense: + turning the wheel left (both)",
+            "steer angle [deg] (+ left)", test="steer_angle", adams="steer_angle",
+            test_meaning="steer angle, + to the left"),
     Channel("arb_twist_deg", "deg", "twist of the anti-roll bar, the other side's half "
             "relative to the config side's about the bar's axis (axle)",
             "anti-roll bar twist [deg]", adams="arb_twist", per_axle=True),
     Channel("arb_torque_Nmm", "N*mm", "torque in the anti-roll bar's torsion spring (axle)",
             "anti-roll bar torque [N*mm]", adams="arb_torque", per_axle=True),
     Channel("roll_centre_height_mm", "mm", "kinematic roll centre height above the ground "
-            "(instant centres of both wheels in the front view, ADAMS/Car's kinematic "
-            "method; axle, parallel travel (a solid axle: of its roll motion at each step), or "
-            "opposite wheel travel on an axle joined by a flexible beam)",
-            "roll centre height [mm]",
+            "(the lines through each contact point normal to its front-view velocity; axle, "
+            "parallel travel (a solid axle: of its roll motion at each step), or opposite "
+            "wheel travel on an axle joined by a flexible beam)", "roll centre height [mm]",
             adams="roll_center_location_vertical", per_axle=True),
     Channel("roll_centre_lateral_mm", "mm", "kinematic roll centre's lateral position, + to "
             "the vehicle's left (axle, parallel travel, or opposite wheel travel on an axle "
@@ -295,7 +295,7 @@ CHARACTERISTIC_LIST = (
                    "parallel_travel", "wheel_travel_mm", "toe_deg", 1000.0,
                    (-BUMP_STEER_WINDOW_MM, BUMP_STEER_WINDOW_MM)),
     Characteristic("bump_steer_at_design_deg_per_m", "bump steer at design", "deg/m", ".3f",
-                   "toe vs wheel travel's slope at the static state (central differences)"),
+                   "toe vs wheel travel's slope at wheel travel 0 (central differences)"),
     Characteristic("bump_camber_deg_per_m", "bump camber", "deg/m", ".3f",
                    "least-squares slope of camber vs wheel travel over the measured stroke "
                    "(loading and unloading)",
@@ -387,8 +387,8 @@ AXLE_CHARACTERISTIC_LIST = (
     _axle("steering_ratio_centre", "steering ratio (on centre)", "deg/deg", ".2f",
           "local steering ratio at the steering wheel's centre"),
     _axle("percent_ackermann_lock", "percent Ackermann at the left lock", "%", ".1f",
-          "100 L (cot outer - cot inner) / track, 0 % equal steer, 100 % the spindle lines "
-          "meeting on the rear axle"),
+          "100 L (cot outer - cot inner) / track of the steer angles (from the static state), "
+          "0 % equal steer, 100 % the spindle lines meeting on the rear axle"),
     _axle("ackermann_error_lock_deg", "Ackermann error at the left lock", "deg", ".2f",
           "outer wheel's steer less its Ackermann angle for the turn radius"),
     _axle("outside_turn_diameter_mm", "outside turn diameter (curb to curb)", "mm", ".0f",

@@ -47,27 +47,28 @@ def wheel_columns(centre: np.ndarray, spin: np.ndarray, suspension: Suspension,
     }
 
 
-def wheel_column_tangents(states: list[StepState], suspension: Suspension
-                          ) -> dict[str, np.ndarray]:
+def wheel_column_tangents(states: list[StepState], suspension: Suspension,
+                          static: StepState) -> dict[str, np.ndarray]:
     """Derivatives (n_steps, n_parameters) of the wheel's columns (:func:`wheel_columns`)
     with respect to the parameters of steps solved with sensitivities (``StepState
     .sensitivity``): central differences of the columns along each parameter's tangent of
     the wheel centre and spin axis, with a step small enough (at most 1e-6 of the unit spin
     axis and 1e-3 mm; the columns are linear in the centre) that they are linear over it to
-    rounding."""
+    rounding. The displacements are changes from ``static`` (the model's static state,
+    solved with the same sensitivities): its own derivative is part of theirs."""
     centre = np.array([st.wheel_centre_mm for st in states])
     spin = np.array([st.spin_axis for st in states])
     d_centre = np.array([st.sensitivity["wheel_centre_mm"] for st in states])  # (n, 3, p)
     d_spin = np.array([st.sensitivity["spin_axis"] for st in states])
+    centre0, d_centre0 = static.wheel_centre_mm, static.sensitivity["wheel_centre_mm"]
     out: dict[str, list[np.ndarray]] = {}
     for j in range(d_centre.shape[2]):
         size = max(float(np.max(np.abs(d_spin[:, :, j]))),
                    1e-3 * float(np.max(np.abs(d_centre[:, :, j]))), 1e-300)
         h = 1e-6 / size
-        plus = wheel_columns(centre + h * d_centre[:, :, j], spin + h * d_spin[:, :, j],
-                             suspension, suspension.wheel.centre_mm)
-        minus = wheel_columns(centre - h * d_centre[:, :, j], spin - h * d_spin[:, :, j],
-                              suspension, suspension.wheel.centre_mm)
+        plus, minus = (wheel_columns(centre + k * d_centre[:, :, j], spin + k * d_spin[:, :, j],
+                                     suspension, centre0 + k * d_centre0[:, j])
+                       for k in (h, -h))
         for name in plus:
             out.setdefault(name, []).append((plus[name] - minus[name]) / (2 * h))
     return {name: np.stack(cols, axis=1) for name, cols in out.items()}
@@ -79,30 +80,36 @@ def steer_sign(side: str) -> float:
 
 
 def characteristics(states: list[StepState] | WheelArrays, suspension: Suspension,
-                    design: StepState | None = None, steering_rows: np.ndarray | None = None
+                    static: StepState, steering_rows: np.ndarray | None = None
                     ) -> dict[str, np.ndarray]:
-    """Per-step columns (kc.csv name -> array) from solved rig steps (a list, or their
-    :class:`~elastokin.physics.states.WheelArrays`); ``steering_rows``: the steps whose
-    steering-axis columns are computed (default all; the others NaN)."""
+    """Per-step columns (kc.csv name -> array) from solved rig steps of the wheel the
+    suspension is seen from (a list, or their :class:`~elastokin.physics.states.WheelArrays`);
+    every change (wheel travel, wheel-centre displacements, track and wheelbase change, steer
+    angle) from ``static``, the model's own static state under the design wheel load
+    (:func:`elastokin.rig.load_cases.static_states`), not from the config's design position:
+    a model that does not rest exactly there (bushing preloads not balanced, a kinematic
+    model with the compliant model's spring preload) reads zero at its own rest.
+    ``steering_rows``: the steps whose steering-axis columns are computed (default all; the
+    others NaN)."""
     s = suspension
     a = WheelArrays.of(states)
-    centre0 = s.wheel.centre_mm if design is None else design.wheel_centre_mm
     pad = a.pad_force_N
-    cols = wheel_columns(a.wheel_centre_mm, a.spin_axis, s, centre0)
+    cols = wheel_columns(a.wheel_centre_mm, a.spin_axis, s, static.wheel_centre_mm)
     cols.update({
         "contact_patch_fx_N": pad[:, 0],
         "contact_patch_fy_N": pad[:, 1],
         "contact_patch_fz_N": pad[:, 2],
     })
+    # the contact point: the wheel's lowest point (StepState.contact_patch_mm)
     patch = a.contact_patch_mm
     position = s.axle.vehicle.position if s.axle is not None and s.axle.vehicle is not None \
         else "front"
-    cols["track_change_mm"] = track_change_mm(patch, s.wheel.contact_patch_mm, s.outboard)
+    cols["track_change_mm"] = track_change_mm(patch, static.contact_patch_mm, s.outboard)
     T = iso_rotation(s)
-    cols["wheelbase_change_mm"] = wheelbase_change_mm(patch @ T.T, T @ s.wheel.contact_patch_mm,
+    cols["wheelbase_change_mm"] = wheelbase_change_mm(patch @ T.T, T @ static.contact_patch_mm,
                                                       position)
-    # steer angle: toe change from the design position, + turning the wheel to the left
-    toe0 = toe_deg(s.wheel.spin_axis, s.forward, s.outboard)
+    # steer angle: toe change from the static state, + turning the wheel to the left
+    toe0 = toe_deg(static.spin_axis, s.forward, s.outboard)
     cols["steer_angle_deg"] = (cols["toe_deg"] - toe0) * steer_sign(s.side)
     recorded = a.poses is not None if isinstance(states, WheelArrays) else \
         states[0].poses is not None
@@ -217,15 +224,14 @@ def determined(value) -> float | None:
 
 def bump_steer_at_design_deg_per_m(sweep: Sweep) -> float | None:
     """Toe change per wheel travel at the static state (deg/m): the stroke's slope by
-    central differences (``np.gradient`` on its uneven travel), read where the pad is at its
-    design height as :func:`~elastokin.rig.sweeps.static_row_value` reads a column."""
+    central differences (``np.gradient`` on its uneven travel), read at wheel travel 0 as
+    :func:`~elastokin.rig.sweeps.static_row_value` reads a column."""
     travel, toe = sweep.stroke("wheel_travel_mm"), sweep.stroke("toe_deg")
-    if travel.size < 3 or "pad_z_mm" not in sweep.columns:
+    if travel.size < 3:
         return None
     slope = np.gradient(toe, travel)
     stroke = Sweep(sweep.model, sweep.load_case, {
-        "branch": np.full(travel.size, "stroke"), "pad_z_mm": sweep.stroke("pad_z_mm"),
-        "slope": slope})
+        "branch": np.full(travel.size, "stroke"), "wheel_travel_mm": travel, "slope": slope})
     value = static_row_value(stroke, "slope")
     return None if value is None else 1000.0 * value
 
@@ -240,12 +246,12 @@ def summary_figures(sweeps: list[Sweep], kinematic: bool,
                     compliance: np.ndarray | None = None,
                     springs: dict[str, tuple[float, float]] | None = None) -> dict:
     """The summary figures of one model (None when the load case was not run, or a slope is
-    not determined: :func:`elastokin.physics.wheel.slope`): steer
-    amplitude, bump steer, the steering axis at the static state (design pad height, design
-    wheel load), every gradient of :data:`~elastokin.rig.channels.GRADIENTS` (over the
-    measured rows, :func:`measured`), the compliance matrix, every spring's and damper's
-    motion ratio at the static state and, with ``springs`` (:func:`spring_shares`), the wheel
-    rate from the springs."""
+    not determined: :func:`elastokin.physics.wheel.slope`): steer amplitude, bump steer, the
+    steering axis at the static state (the parallel-travel stroke at wheel travel 0: the
+    design wheel load on the pad), every gradient of
+    :data:`~elastokin.rig.channels.GRADIENTS` (over the measured rows, :func:`measured`), the
+    compliance matrix, every spring's and damper's motion ratio at the static state and,
+    with ``springs`` (:func:`spring_shares`), the wheel rate from the springs."""
     travel = find_sweep(sweeps, "parallel_travel")
     has_toe = travel is not None and "toe_deg" in travel.columns
     out = {"steer_amplitude_deg": steer_amplitude_deg(travel) if has_toe else None,

@@ -12,6 +12,7 @@ applies to the tyre (ISO 8855 vehicle axes).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
@@ -25,6 +26,7 @@ from elastokin.config.schema_rig import (
     TravelSpec,
     VerticalForceSpec,
 )
+from elastokin.errors import SolverError
 from elastokin.physics.states import LoadTable, PoseSeries, StepState, WheelArrays
 from elastokin.physics.wheel import toe_deg
 from elastokin.rig.axle_channels import axle_columns
@@ -43,7 +45,7 @@ from elastokin.rig.drives import (
     parallel_travel_drive,
     vertical_force_drive,
 )
-from elastokin.rig.pad import WheelInputs, run_pad, run_rig
+from elastokin.rig.pad import WheelInputs, run_rig
 from elastokin.rig.paths import travel_path
 from elastokin.rig.steering import stacked_steering_axis_columns
 from elastokin.rig.sweeps import Sweep, static_rows
@@ -51,15 +53,102 @@ from elastokin.rig.sweeps import Sweep, static_rows
 __all__ = ["Drive", "StaticResult", "compliance_matrix", "drives", "force_drive",
            "force_sweep", "parallel_travel", "parallel_travel_drive", "run_drive",
            "run_drive_sides", "run_load_cases", "run_load_cases_sides", "static_equilibrium",
-           "travel_path", "vertical_force", "vertical_force_drive", "wheel_compliance"]
+           "static_states", "travel_path", "vertical_force", "vertical_force_drive",
+           "wheel_compliance"]
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
 
 
+class StaticStateWarning(UserWarning):
+    """A model without a spring has no static equilibrium under the design wheel load: its
+    changes are then from the design position (the message says so)."""
+
+
+class StaticStates(dict):
+    """The model's static state by side (:func:`static_states`) and, solved with design
+    sensitivities, ``design``: per design variable ``{sign: {side: StepState}}``, the static
+    state on its twins (:class:`~elastokin.mbs.twins.TwinPair`) at ``y +- step dy/dp``."""
+
+    def __init__(self, states=(), design: list | None = None):
+        super().__init__(states)
+        self.design = design or []
+
+
+def static_states(model: SuspensionModel, variations: Sequence | None = None,
+                  twins: Sequence | None = None) -> StaticStates:
+    """The model's own static state under the design wheel load, by side: every wheel's
+    contact patch carrying the design wheel load, patches free (force control), steering
+    held. It is the zero of the rig: every change-from-static channel
+    (:func:`elastokin.rig.characteristics.characteristics`) and every pad height
+    (:func:`run_drive_sides`) is referenced to it. A model without a spring that has no such
+    equilibrium (e.g. a kinematic one: nothing carries the load) is referenced to its design
+    position, with a :class:`StaticStateWarning`; any other failed solve raises
+    :class:`~elastokin.errors.SolverError` (a start far from equilibrium: the DOE then
+    solves it by continuation). ``variations``: with its sensitivities
+    (:func:`~elastokin.rig.pad.run_rig`); ``twins``: with its states on each
+    :class:`~elastokin.mbs.twins.TwinPair` (``StaticStates.design``: the static state moves
+    with the design, and every change from it with it)."""
+    s = model.suspension
+    twins = list(twins or ())
+    try:
+        return _design_load_states(model, variations, twins)
+    except SolverError as exc:
+        if s.springs:
+            raise
+        warnings.warn(StaticStateWarning(
+            f"{exc}: the changes (wheel travel, wheel-centre displacements, track and "
+            "wheelbase change, steer angle) and the rig's pad heights are from the design "
+            "position"), stacklevel=2)
+    # the design position does not move with the parameters of ``variations``
+    fixed = None if not variations else {k: np.zeros((3, len(variations)))
+                                         for k in ("wheel_centre_mm", "spin_axis")}
+    return StaticStates(_design_states(s, fixed), [
+        {sign: _design_states(m.suspension) for sign, m in pair.models()} for pair in twins])
+
+
+def _design_states(s, sensitivity=None) -> dict[str, StepState]:
+    """Every wheel at the design position of ``s`` (no load)."""
+    return {side: StepState(w.centre_mm, w.spin_axis, np.eye(3), w.contact_patch_mm,
+                            np.zeros(3), {}, {}, {}, sensitivity=sensitivity)
+            for side, w in s.wheels.items()}
+
+
+def _design_load_wheels(s) -> dict[str, WheelInputs]:
+    load = (s.up * s.design.wheel_load_N)[None, :]
+    return {side: WheelInputs(None, load, np.zeros((1, 6))) for side in s.wheels}
+
+
+def _design_load_states(model: SuspensionModel, variations: Sequence | None = None,
+                        twins: Sequence = ()) -> StaticStates:
+    pairs = [(pair, {sign: (_design_load_wheels(m.suspension), None, None)
+                     for sign, m in pair.models()}) for pair in twins]
+    steps = run_rig(model, _design_load_wheels(model.suspension),
+                    what="static equilibrium under the design wheel load",
+                    variations=variations, twins=pairs)
+    design = [{sign: {side: a.step(0) for side, a in by_side.items()}
+               for sign, by_side in moved.items()} for moved, _ in steps.design]
+    return StaticStates(steps[0], design)
+
+
+def pads_from_static(drive: Drive, suspension, static: dict[str, StepState]
+                     ) -> dict[str, WheelInputs]:
+    """The drive's wheel inputs with every pad height taken from the static state (a rig
+    moves its pads from where the car rests): each wheel's pad height plus its contact
+    point's height at ``static`` above the design position's."""
+    out = {}
+    for side, wi in drive.wheels.items():
+        if wi.pad_z_mm is not None:
+            rest = (static[side].contact_patch_mm - suspension.wheels[side].contact_patch_mm)
+            wi = replace(wi, pad_z_mm=np.asarray(wi.pad_z_mm, float) + rest @ suspension.up)
+        out[side] = wi
+    return out
+
+
 def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
                     variations: Sequence | None = None, twins: Sequence | None = None,
-                    detail: str = "full") -> list[Sweep]:
+                    detail: str = "full", static: StaticStates | None = None
+                    ) -> list[Sweep]:
     """The sweeps of ``drive`` on ``model``, one per wheel (the config side's first; the
     pads attached when they are not yet); with ``variations`` (parameters of the model's
     parametric bushings, :class:`~elastokin.mbs.sensitivity.LawVariation`) every sweep
@@ -69,67 +158,82 @@ def run_drive_sides(model: SuspensionModel, label: str, drive: Drive,
     column (``Sweep.tangents``: column -> (steps, variables)); ``detail``: ``full`` (every
     column at every step) or ``summary`` (what the summary figures read: no bushing
     columns, the steering axis at the static state only, no approach from the design
-    position; the others NaN)."""
+    position; the others NaN). ``static``: the model's :func:`static_states` (solved here,
+    with the same sensitivities or twins, when not given or given without them): the pads
+    move from it (:func:`pads_from_static`; ``pad_z_mm`` is the change from it) and every
+    change-from-static channel is referenced to it."""
     s = model.suspension
     rig = s.rig_source
-    what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
     twins = list(twins or ())
+    if static is None or (variations and any(st.sensitivity is None
+                                              for st in static.values())) \
+            or len(getattr(static, "design", ())) != len(twins):
+        # the tangents need its own
+        static = static_states(model, variations, [pair for pair, _ in twins])
+    what = f"model '{label}', {drive.load_case}" + (f" (rig file {rig})" if rig else "")
     if drive.load_case == "steering":
         drive, mirrored = left_turning(model, drive, what)
         twins = [(pair, {sign: mirrored_rack(d, pair.models()[0 if sign > 0 else 1][1])
                          if mirrored else d for sign, d in per_sign.items()})
                  for pair, per_sign in twins]
-    rig_twins = [(pair, {sign: (d.wheels, d.rack_travel_mm, d.heave_load_N)
-                         for sign, d in per_sign.items()}) for pair, per_sign in twins]
+    rig_twins = [(pair, {sign: (pads_from_static(per_sign[sign], m.suspension,
+                                                 static.design[k][sign]),
+                                per_sign[sign].rack_travel_mm, per_sign[sign].heave_load_N)
+                         for sign, m in pair.models()})
+                 for k, (pair, per_sign) in enumerate(twins)]
     keep = drive.recorded
     kept = np.ones(len(drive.branch), bool) if keep is None else np.asarray(keep, bool)
     derived = kept & ((np.asarray(drive.branch) != "approach") | (detail == "full"))
-    steps = run_rig(model, drive.wheels, drive.rack_travel_mm, drive.heave_load_N, what=what,
-                    variations=variations, twins=rig_twins, bushings=detail == "full",
-                    keep=derived)
+    steps = run_rig(model, pads_from_static(drive, s, static), drive.rack_travel_mm,
+                    drive.heave_load_N, what=what, variations=variations, twins=rig_twins,
+                    bushings=detail == "full", keep=derived)
     design = steps.design
     if keep is not None:
         steps = [st for st, k in zip(steps, keep) if k]
-    columns = sweep_columns({side: [st[side] for st in steps] for side in s.sides}, s, drive)
-    tangents = design_tangents(columns, twins, design, derived, kept, detail, s)
+    columns = sweep_columns({side: [st[side] for st in steps] for side in s.sides}, s, drive,
+                            static)
+    tangents = design_tangents(columns, twins, design, derived, kept, detail, s, static)
     first = [st[s.side] for st in steps]
     loads = LoadTable.stack([st.loads for st in first]) if first and first[0].loads else None
     poses = PoseSeries.stack([st.poses for st in first]) if first and first[0].poses else None
     sweeps = []
     for side in s.sides:
         if variations:
-            tangents[side] = wheel_column_tangents([st[side] for st in steps], s.on_side(side))
+            tangents[side] = wheel_column_tangents([st[side] for st in steps], s.on_side(side),
+                                                   static[side])
         sweeps.append(Sweep(label, drive.load_case, columns[side], tangents[side], side,
                             loads=loads if side == s.side else None, poses=poses))
     return sweeps
 
 
 def design_tangents(columns: dict, twins: list, design: list, derived: np.ndarray,
-                    kept: np.ndarray, detail: str, s) -> dict[str, dict[str, np.ndarray]]:
+                    kept: np.ndarray, detail: str, s, static: StaticStates
+                    ) -> dict[str, dict[str, np.ndarray]]:
     """Per side, the tangents (rows, variables) of every column of a sweep (``columns`` by
     side) from its states on each variable's twins (``design``, by variable), solved at the
     steps ``derived`` (a mask over the solver's steps, within those ``kept``; the other rows
-    NaN)."""
+    NaN); every change from each twin's own static state (``static.design``: the static state
+    moves with the design)."""
     rows = np.flatnonzero(derived[kept])
     n = int(kept.sum())
-    static = np.arange(rows.size) if detail == "full" else static_rows(
+    at_static = np.arange(rows.size) if detail == "full" else static_rows(
         {k: np.asarray(v)[rows] for k, v in columns[s.side].items()})
     # the columns on every twin, the steering axis left out: it is computed for all of them
     # at once (stacked_steering_axis_columns: its fixed cost once)
     moved = [{sign: sweep_columns(design[k][0][sign], m.suspension,
                                   replace(per_sign[sign], recorded=derived),
-                                  np.zeros(0, int))
+                                  static.design[k][sign], np.zeros(0, int))
               for sign, m in pair.models()} for k, (pair, per_sign) in enumerate(twins)]
-    if static.size and any(STEERING_AXIS_COLUMNS[0] in m[1][s.side] for m in moved):
+    if at_static.size and any(STEERING_AXIS_COLUMNS[0] in m[1][s.side] for m in moved):
         for side in s.sides:
             cases = [(k, sign, m.suspension.on_side(side)) for k, (pair, _) in
                      enumerate(twins) for sign, m in pair.models()]
             axes = stacked_steering_axis_columns(
-                [([design[k][0][sign][side].step(i) for i in static], view)
+                [([design[k][0][sign][side].step(i) for i in at_static], view)
                  for k, sign, view in cases])
             for (k, sign, _), cols in zip(cases, axes):
                 for name, values in cols.items():
-                    moved[k][sign][side][name][static] = values
+                    moved[k][sign][side][name][at_static] = values
     tangents: dict[str, dict[str, np.ndarray]] = {side: {} for side in s.sides}
     for k, (pair, _) in enumerate(twins):
         for side in s.sides:
@@ -143,12 +247,13 @@ def design_tangents(columns: dict, twins: list, design: list, derived: np.ndarra
     return tangents
 
 
-def sweep_columns(by_side: dict, suspension, drive: Drive,
+def sweep_columns(by_side: dict, suspension, drive: Drive, static: dict[str, StepState],
                   steering_rows: np.ndarray | None = None) -> dict[str, dict[str, np.ndarray]]:
     """Every column of each wheel's sweep (by side) from the recorded rig steps of
     ``drive`` by side (lists of :class:`~elastokin.physics.states.StepState` or
-    :class:`~elastokin.physics.states.WheelArrays`; its ``recorded`` selection applied;
-    ``steering_rows``: see :func:`~elastokin.rig.characteristics.characteristics`)."""
+    :class:`~elastokin.physics.states.WheelArrays`; its ``recorded`` selection applied),
+    every change from ``static`` (by side, :func:`static_states`); ``steering_rows``: see
+    :func:`~elastokin.rig.characteristics.characteristics`."""
     s = suspension
     keep = drive.recorded
     cols = {"branch": drive.branch, drive.input_column: drive.inputs, **drive.columns}
@@ -156,12 +261,12 @@ def sweep_columns(by_side: dict, suspension, drive: Drive,
     if keep is not None:
         cols = {k: v[keep] for k, v in cols.items()}
         own = {k: v[keep] for k, v in own.items()}
-    shared = axle_columns(by_side, s, drive) if s.axle is not None else {}
+    shared = axle_columns(by_side, s, drive, static) if s.axle is not None else {}
     out = {}
     for side in s.sides:
         view = s.on_side(side)
         mine = {drive.input_column: own[side]} if side in own else {}
-        out[side] = {**cols, **mine, **characteristics(by_side[side], view,
+        out[side] = {**cols, **mine, **characteristics(by_side[side], view, static[side],
                                                         steering_rows=steering_rows),
                      **shared}
         case = LOAD_CASES.get(drive.load_case)  # vehicle loads are not in the table
@@ -217,22 +322,25 @@ def mirrored_rack(drive: Drive, model: SuspensionModel) -> Drive:
 
 
 def run_drive(model: SuspensionModel, label: str, drive: Drive,
-              variations: Sequence | None = None) -> Sweep:
+              variations: Sequence | None = None,
+              static: dict[str, StepState] | None = None) -> Sweep:
     """The config side's sweep of ``drive`` on ``model`` (:func:`run_drive_sides`)."""
-    return run_drive_sides(model, label, drive, variations)[0]
+    return run_drive_sides(model, label, drive, variations, static=static)[0]
 
 
 def run_load_cases_sides(model: SuspensionModel, label: str, rig: RigSpec | None = None,
                          variations: Sequence | None = None, twins: Sequence | None = None,
                          detail: str = "full") -> dict[str, list[Sweep]]:
     """Every load case of ``rig`` (default: the model's config's) on ``model``: the sweeps by
-    side (the config side's first); ``twins``: design sensitivities, a
-    :class:`~elastokin.mbs.twins.TwinPair` per design variable (:func:`run_drive_sides`)."""
+    side (the config side's first), every change from the model's :func:`static_states`
+    (solved once); ``twins``: design sensitivities, a :class:`~elastokin.mbs.twins.TwinPair`
+    per design variable (:func:`run_drive_sides`)."""
     out: dict[str, list[Sweep]] = {side: [] for side in model.suspension.sides}
     kinematic = model.suspension.kinematic
+    static = static_states(model, variations, twins)
     for d in drives(model.suspension, rig, kinematic):
         pairs = twin_drives(twins, d.load_case, rig, kinematic) if twins else None
-        for sw in run_drive_sides(model, label, d, variations, pairs, detail):
+        for sw in run_drive_sides(model, label, d, variations, pairs, detail, static):
             out[sw.side].append(sw)
     return out
 
@@ -357,8 +465,7 @@ def static_equilibrium(model: SuspensionModel) -> StaticResult:
 
     s = model.suspension
     w = s.design.wheel_load_N
-    state = run_pad(model, pad_loads=[s.up * w],
-                    what="static equilibrium under the wheel load")[-1]
+    state = _design_load_states(model)[s.side]
     forces = forces_on_part(model, s.wheel.part)
     residual = float(np.linalg.norm(sum(forces.values())))
     return StaticResult(state, w, bushing_table(state, s), residual)

@@ -5,6 +5,11 @@ the contact patch and at the wheel centre (force control); on an axle also the s
 under the axle's total vertical load, the pads' heights prescribed relative to it). The model
 knows nothing of it.
 
+The contact patch is the tyre's contact point, the wheel's lowest point at the loaded radius
+in the wheel plane (:func:`~elastokin.physics.steering_geometry.contact_point`), recomputed at
+every step: the wheel rolls on the pad, which holds and loads it there
+(:mod:`elastokin.mbs.contact`), and every channel reads the same point.
+
 Config frame, mm / N / N*mm. Contact-patch forces are the forces the pad applies to the tyre
 (Fz > 0 pushes the wheel up); the pad's vertical reaction is added to them under displacement
 control.
@@ -20,6 +25,7 @@ import numpy as np
 
 from elastokin.errors import ModelError
 from elastokin.physics.states import ModelState, StepState, WheelArrays
+from elastokin.physics.steering_geometry import contact_point
 
 if TYPE_CHECKING:
     from elastokin.mbs.model import SuspensionModel
@@ -27,6 +33,8 @@ if TYPE_CHECKING:
 #: the heave beam of the roll load case (a rig body) and its load
 HEAVE, HEAVE_LOAD = "rig:heave", "rig:heave_load"
 HELD, HEAVING = (1, 1, 1, 1, 1, 1), (1, 1, 0, 1, 1, 1)
+#: a pad holds the contact point's height, x and y free
+HOLD_Z = (0, 0, 1, 0, 0, 0)
 
 
 def names(side: str) -> dict[str, str]:
@@ -35,7 +43,7 @@ def names(side: str) -> dict[str, str]:
             "patch_force": f"rig:contact_patch_force:{side}",
             "centre_force": f"rig:wheel_centre_force:{side}",
             "centre_torque": f"rig:wheel_centre_torque:{side}",
-            "centre": f"rig:wheel_centre:{side}", "patch": f"rig:contact_patch:{side}"}
+            "centre": f"rig:wheel_centre:{side}"}
 
 
 def patch_item(side: str) -> tuple[str, str]:
@@ -56,7 +64,10 @@ class WheelInputs:
 
 
 def attach_pads(model: SuspensionModel) -> None:
-    """Attach a pad and the wheel loads to every wheel of ``model`` (once)."""
+    """Attach a pad and the wheel loads to every wheel of ``model`` (once): the pad holds and
+    loads the wheel at its contact point (:mod:`elastokin.mbs.contact`)."""
+    from elastokin.mbs.contact import add_contact_load, contact_arm
+
     for side, w in model.suspension.wheels.items():
         n = names(side)
         if n["pad"] in model.supports:
@@ -64,18 +75,17 @@ def attach_pads(model: SuspensionModel) -> None:
         item = patch_item(side)
         # the points as functions of the suspension: a design's twin moves them in place
         patch, centre = contact_patch(side), wheel_centre(side)
-        model.add_support(n["pad"], w.part, patch, (0, 0, 1, 0, 0, 0), item=item)
-        model.add_load(n["patch_force"], w.part, patch, "force", marker_of=n["pad"],
-                       item=item)
+        model.add_support(n["pad"], contact_arm(model, side, item), patch, HOLD_Z, item=item)
+        add_contact_load(model, n["patch_force"], side, item)
         model.add_load(n["centre_force"], w.part, centre, "force", item=item)
         model.add_load(n["centre_torque"], w.part, centre, "torque",
                        marker_of=n["centre_force"], item=item)
         model.add_point_sensor(n["centre"], w.part, centre)
-        model.add_point_sensor(n["patch"], w.part, patch)
 
 
 def contact_patch(side: str):
-    """The design contact patch of the wheel on ``side`` of a suspension (mm)."""
+    """The design contact point of the wheel on ``side`` of a suspension (mm): its lowest
+    point (``Wheel.contact_patch_mm``)."""
     return lambda s: s.wheels[side].contact_patch_mm
 
 
@@ -85,20 +95,22 @@ def wheel_centre(side: str):
 
 
 def patches_midpoint(s) -> np.ndarray:
-    """The midpoint of a suspension's design contact patches (mm): the heave beam's."""
+    """The midpoint of a suspension's design contact points (mm): the heave beam's."""
     return np.mean([w.contact_patch_mm for w in s.wheels.values()], axis=0)
 
 
 def attach_heave(model: SuspensionModel) -> None:
     """The heave beam under the contact patches and the pads on it (once)."""
+    from elastokin.mbs.contact import contact_arm
+
     if HEAVE in model.rig_bodies:
         return
     s = model.suspension
     model.add_rig_body(HEAVE, patches_midpoint(s), HELD)
     model.add_load(HEAVE_LOAD, HEAVE, patches_midpoint, "force")
-    for side, w in s.wheels.items():
-        model.add_support(names(side)["roll_pad"], w.part, contact_patch(side),
-                          (0, 0, 1, 0, 0, 0), base=HEAVE, item=patch_item(side))
+    for side in s.wheels:
+        model.add_support(names(side)["roll_pad"], contact_arm(model, side, patch_item(side)),
+                          contact_patch(side), HOLD_Z, base=HEAVE, item=patch_item(side))
 
 
 def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
@@ -158,8 +170,10 @@ def run_rig(model: SuspensionModel, wheels: Mapping[str, WheelInputs],
     finally:
         for m in heaving:
             m.set_support_axes(HEAVE, HELD)
-    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll)
-                    for side, wi in wheels.items()} for st in states)
+    contact = {side: contact_points(model, states, side) for side in wheels}
+    out = RigSteps({side: wheel_state(model, st, side, wi.pad_z_mm is not None, roll,
+                                      contact[side][i])
+                    for side, wi in wheels.items()} for i, st in enumerate(states))
     out.design = [({sign: {side: wheel_arrays(m, d.states[sign], side,
                                               wheels[side].pad_z_mm is not None, roll)
                            for side in wheels} for sign, m in pair.models()}, d.step)
@@ -180,15 +194,17 @@ class RigSteps(list):
 def wheel_arrays(model: SuspensionModel, state: dict, side: str, displacement_control: bool,
                  roll: bool = False) -> WheelArrays:
     """:func:`wheel_state` over many steps: the wheel on ``side`` from a model's states as
-    arrays (:func:`~elastokin.mbs.solve.state_arrays`)."""
+    arrays (:func:`~elastokin.mbs.solve.state_arrays`; the contact point its lowest point)."""
     w = model.suspension.wheels[side]
     n = names(side)
     R = state["poses"][w.part][0]
     pad = np.array(state["applied"][n["patch_force"]], float)
     if displacement_control:
         pad[:, 2] += state["support_force_N"][n["roll_pad" if roll else "pad"]][:, 2]
-    return WheelArrays(state["points"][n["centre"]], R @ w.spin_axis, R,
-                       state["points"][n["patch"]], pad, state["spring_force_N"],
+    centre, spin = state["points"][n["centre"]], R @ w.spin_axis
+    return WheelArrays(centre, spin, R,
+                       contact_point(centre, spin, w.loaded_radius_mm, model.suspension.up),
+                       pad, state["spring_force_N"],
                        state["bushing_deflection"], state["bushing_load"], state["scalars"],
                        state["poses"] if model.options.part_poses else None,
                        state["reference_mm"])
@@ -264,23 +280,42 @@ def run_pad(model: SuspensionModel, pad_z_mm: Sequence[float] | None = None,
     return [step[model.suspension.side] for step in steps]
 
 
-def wheel_state(model: SuspensionModel, state: ModelState, side: str,
-                displacement_control: bool, roll: bool = False) -> StepState:
-    """The rig's view of a solved model state for the wheel on ``side``: wheel centre and
-    contact patch (recorded points), spin axis and rotation from the wheel part's pose; the
-    pad force (applied, plus the pad's vertical reaction under displacement control)."""
+def contact_points(model: SuspensionModel, states: Sequence[ModelState], side: str
+                   ) -> np.ndarray:
+    """(steps, 3) the contact point of the wheel on ``side`` at each of ``states`` (mm): its
+    lowest point (:func:`~elastokin.physics.steering_geometry.contact_point`) from the wheel
+    centre and spin axis, in one computation for all steps."""
     w = model.suspension.wheels[side]
+    centre = np.array([st.points[names(side)["centre"]] for st in states]).reshape(-1, 3)
+    spin = np.array([st.poses.rotation[w.part] @ w.spin_axis for st in states]).reshape(-1, 3)
+    return contact_point(centre, spin, w.loaded_radius_mm, model.suspension.up)
+
+
+def wheel_state(model: SuspensionModel, state: ModelState, side: str,
+                displacement_control: bool, roll: bool = False,
+                contact: np.ndarray | None = None) -> StepState:
+    """The rig's view of a solved model state for the wheel on ``side``: wheel centre
+    (recorded point), spin axis and rotation from the wheel part's pose, the contact point
+    from both (the wheel's lowest point,
+    :func:`~elastokin.physics.steering_geometry.contact_point`, where the pad holds and loads
+    the wheel; ``contact`` when computed already, :func:`contact_points`); the pad force
+    (applied, plus the pad's vertical reaction under displacement control)."""
+    s = model.suspension
+    w = s.wheels[side]
     n = names(side)
     poses = state.poses
     R = poses.rotation[w.part]
+    centre, spin = state.points[n["centre"]], R @ w.spin_axis
     pad = state.applied[n["patch_force"]].copy()
     if displacement_control:
         pad[2] += state.support_force_N[n["roll_pad" if roll else "pad"]][2]
     sens = state.sensitivity
     derivatives = None if sens is None else {
-        "wheel_centre_mm": sens.points[n["centre"]], "contact_patch_mm": sens.points[n["patch"]],
+        "wheel_centre_mm": sens.points[n["centre"]],
         "spin_axis": np.einsum("abp,b->ap", sens.rotation[w.part], w.spin_axis)}
-    return StepState(state.points[n["centre"]], R @ w.spin_axis, R, state.points[n["patch"]],
-                     pad, state.spring_force_N, state.bushing_deflection, state.bushing_load,
+    if contact is None:
+        contact = contact_point(centre, spin, w.loaded_radius_mm, s.up)
+    return StepState(centre, spin, R, contact, pad, state.spring_force_N,
+                     state.bushing_deflection, state.bushing_load,
                      poses if model.options.part_poses else None, derivatives,
                      state.scalars, state.loads)

@@ -57,14 +57,14 @@ def find_sweep(sweeps: list[Sweep], load_case: str) -> Sweep | None:
 
 
 def static_row_value(sweep: Sweep, name: str) -> float | None:
-    """``name`` at the static state of a parallel-travel sweep: the rig pad at the design
-    height (``pad_z_mm`` = 0) on the measured stroke, interpolated linearly when no step lands
-    on it. With a balanced design (``design.balance_spring``) the pad carries the design
-    wheel load there, i.e. this is the static equilibrium under the design wheel load. None
-    when the column is missing, undefined there (NaN) or 0 is outside the stroke."""
-    if name not in sweep.columns or "pad_z_mm" not in sweep.columns:
+    """``name`` at the static state of a parallel-travel sweep: wheel travel 0 on the
+    measured stroke (wheel travel is the change from the model's own static state under the
+    design wheel load: the pad carries that load there), interpolated linearly when no step
+    lands on it. None when the column is missing, undefined there (NaN) or 0 is outside the
+    stroke."""
+    if name not in sweep.columns or "wheel_travel_mm" not in sweep.columns:
         return None
-    z, y = sweep.stroke("pad_z_mm").astype(float), sweep.stroke(name).astype(float)
+    z, y = sweep.stroke("wheel_travel_mm").astype(float), sweep.stroke(name).astype(float)
     hit = np.flatnonzero(z == 0.0)
     if hit.size:
         value = float(y[hit[0]])
@@ -78,11 +78,11 @@ def static_row_value(sweep: Sweep, name: str) -> float | None:
 
 def static_rows(columns: dict[str, np.ndarray]) -> np.ndarray:
     """The rows :func:`static_row_value` reads in a parallel-travel sweep's columns (the
-    stroke's step at the design pad height, or the two around it); empty when none."""
-    if "pad_z_mm" not in columns:
+    stroke's step at wheel travel 0, or the two around it); empty when none."""
+    if "wheel_travel_mm" not in columns:
         return np.zeros(0, int)
     stroke = np.flatnonzero(np.asarray(columns["branch"]) == "stroke")
-    z = np.asarray(columns["pad_z_mm"], float)[stroke]
+    z = np.asarray(columns["wheel_travel_mm"], float)[stroke]
     hit = np.flatnonzero(z == 0.0)
     if hit.size:
         return stroke[hit[:1]]

@@ -23,12 +23,17 @@ from elastokin.config.loading import suspension_from_dict
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
 from elastokin.errors import ConfigError, ElastokinError, SolverError
-from elastokin.mbs.design import build_model, design_state, settle_by_continuation
+from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import NO_LOADS
 from elastokin.physics.wheel import UndeterminedSlopeWarning
 from elastokin.rig.characteristics import summary_figures
 from elastokin.rig.drives import check_rig
-from elastokin.rig.load_cases import drives, parallel_travel_drive, run_drive
+from elastokin.rig.load_cases import (
+    drives,
+    parallel_travel_drive,
+    run_drive,
+    static_states,
+)
 from elastokin.studies.doe_sampling import (
     ClearanceJoint,
     clearance_joints,
@@ -36,7 +41,7 @@ from elastokin.studies.doe_sampling import (
     shifts_mm,
     unit_samples,
 )
-from elastokin.synthetic.virtual_cmm import as_built
+from elastokin.synthetic.virtual_cmm import as_built, as_built_by_continuation
 
 #: ``all``: every load case of the config's rig; ``travel``: parallel wheel travel only
 LOAD_CASES = ("all", "travel")
@@ -90,30 +95,25 @@ def as_built_model(suspension: Suspension, shifts: dict[str, np.ndarray], design
     return build_model(as_built(suspension, shifts, design).variant(), NO_LOADS)
 
 
-#: fractions of the clearance shifts solved in turn when a sample's direct solve fails
-CONTINUATION = (0.25, 0.5, 0.75, 1.0)
-
-
 def as_built_model_by_continuation(suspension: Suspension, shifts: dict[str, np.ndarray],
                                    design):
     """:func:`as_built_model`, started from its settled state, reached by continuation from
-    the nominal geometry through :data:`CONTINUATION` fractions of the shifts: a large
-    clearance shift of a stiff bushing (J2, 13000 N/mm, shifted 0.69 mm: 9 kN out of balance
-    at the design position) is too far from equilibrium for Newton's first step."""
-    models = [as_built_model(suspension, {k: f * np.asarray(v, float) for k, v in shifts.items()},
-                             design) for f in CONTINUATION]
-    return settle_by_continuation(models)
+    the nominal geometry
+    (:func:`~elastokin.synthetic.virtual_cmm.as_built_by_continuation`)."""
+    return as_built_by_continuation(suspension, shifts, design, NO_LOADS)
 
 
-def travel_sweep(model, label: str = "sample", spec=None):
+def travel_sweep(model, label: str = "sample", spec=None, static=None):
     """Parallel wheel travel as the K&C job's (same stroke, same columns), the approach from
     the design position solved in steps of at most :data:`APPROACH_STEP_MM` and left out, no
     unloading: the sweep holds the stroke only (rebound to bump), as the K&C job's gradients
-    use (bump camber over the measured rows: a frictionless model's return is its stroke)."""
+    use (bump camber over the measured rows: a frictionless model's return is its stroke).
+    ``static``: the model's static states (:func:`~elastokin.rig.load_cases.static_states`;
+    solved when not given)."""
     spec = (spec or model.suspension.rig.parallel_travel).model_copy(update={"unloading": False})
     drive = parallel_travel_drive(model.suspension, spec, APPROACH_STEP_MM,
                                   record_approach=False)
-    return run_drive(model, label, drive)
+    return run_drive(model, label, drive, static=static)
 
 
 def model_characteristics(model, load_cases: str = "all", label: str = "sample",
@@ -123,9 +123,11 @@ def model_characteristics(model, load_cases: str = "all", label: str = "sample",
     the lateral, longitudinal, traction and aligning-torque compliances. A characteristic not
     determined (a slope from too few rig steps) is left out; ``quiet``: without its warning
     (the samples of a study: the nominal model's says it once)."""
-    sweeps = [travel_sweep(model, label)]
+    static = static_states(model)  # every load case's reference, solved once
+    sweeps = [travel_sweep(model, label, static=static)]
     if load_cases == "all":
-        sweeps += [run_drive(model, label, d) for d in drives(model.suspension)[1:]]
+        sweeps += [run_drive(model, label, d, static=static)
+                   for d in drives(model.suspension)[1:]]
     with warnings.catch_warnings():
         if quiet:
             warnings.simplefilter("ignore", UndeterminedSlopeWarning)

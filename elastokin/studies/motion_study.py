@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from elastokin.config.confined import data_folders, typed_folders
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.schema_motion import MotionSpec
 from elastokin.config.suspension import Suspension
@@ -155,7 +156,10 @@ def disassembly_errors(suspension: Suspension, seeds: list[int], folder: Path
         raw["measurements"]["folder"] = str(target.resolve())
         s = suspension_from_dict(raw, suspension.source, suspension.sha256)
         synthesize(s, seed, target)
-        for name, j in identify_geometry(s, verify=False).joints.items():
+        # the study's own folder (it writes the files it reads), beside the folders given
+        with data_folders([*typed_folders(), folder]):
+            joints = identify_geometry(s, verify=False).joints
+        for name, j in joints.items():
             if j.error_vs_truth_mm is not None:
                 out.setdefault(name, []).append(j.error_vs_truth_mm)
     return out

@@ -66,7 +66,12 @@ from elastokin.mbs.design import build_model
 from elastokin.mbs.model import NO_LOADS
 from elastokin.physics.laws import DirectionLaw
 from elastokin.rig.channels import LOAD_CASES, TEST_CHANNELS
-from elastokin.rig.load_cases import drives, run_drive_sides, static_equilibrium
+from elastokin.rig.load_cases import (
+    drives,
+    run_drive_sides,
+    static_equilibrium,
+    static_states,
+)
 from elastokin.rig.sweeps import Sweep
 from elastokin.synthetic.virtual_cmm import as_built, clearance_shifts
 
@@ -249,9 +254,10 @@ def run_real_suspension(suspension: Suspension, seed: int | None = None,
     for kind, ds in _runs(s):
         model = build_model(real_axle_variant(s, seed, own) if kind == "axle" else own,
                             NO_LOADS)
+        static = static_states(model)  # the rig's zero: the real suspension at rest
         for drive in ds:
             progress(f"synthetic real suspension ({kind}): {drive.load_case}")
-            for sw in run_drive_sides(model, "test", drive):
+            for sw in run_drive_sides(model, "test", drive, static=static):
                 out.setdefault((drive.load_case, sw.side), sw)
     return [out[case, side] for case in dict.fromkeys(c for c, _ in out) for side in s.sides
             if (case, side) in out]
