@@ -1,5 +1,6 @@
-"""The quick modes of the benchmarks issue 28 added to or extended (run here so that they keep
-working; their figures are the benchmarks', not asserted as times)."""
+"""The quick mode of the benchmark issue 28 added (run here so that it keeps working; its
+figures are the benchmark's, not asserted as times). bench_kc.py's quick mode, which issue 28
+extended, runs in tests/test_benchmarks.py with the other K&C benchmarks."""
 
 import json
 import subprocess
@@ -11,7 +12,7 @@ from .conftest import ROOT
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("script", ["bench_kc.py", "bench_design.py"])
+@pytest.mark.parametrize("script", ["bench_design.py"])
 def test_benchmark_quick_mode(tmp_path, script):
     out = tmp_path / "result.json"
     done = subprocess.run([sys.executable, str(ROOT / "benchmarks" / script), "--quick",
@@ -19,8 +20,5 @@ def test_benchmark_quick_mode(tmp_path, script):
     assert done.returncode == 0, done.stderr[-2000:]
     result = json.loads(out.read_text())
     assert result["quick"] is True
-    if script == "bench_kc.py":
-        assert result["max_spin_axis_difference_before_issue28"] == 0.0  # the same results
-    else:
-        assert result["optimize"]["exact"]["met"]
-        assert result["sensitivity"][0]["coordinates"] == 33
+    assert result["optimize"]["exact"]["met"]
+    assert result["sensitivity"][0]["coordinates"] == 33
