@@ -261,3 +261,23 @@ def test_flexible_beams_are_refused_by_name(tmp_path):
     assert r.exit_code == 1
     assert "flexible beam part(s) cross_beam" in r.output and "Traceback" not in r.output
     assert not out.exists()
+
+
+def test_a_target_the_rig_cannot_determine_is_one_line(tmp_path):
+    """A characteristic target that the rig leaves undetermined (bump steer from 3 points of
+    travel, 50 mm apart: 2 in its +-50 mm window) stops with one line naming the targets
+    file, the key and why, not a traceback (exit code 1, nothing written)."""
+    rig = write(tmp_path / "rig.yaml", "parallel_travel: {rebound_mm: -50, bump_mm: 50, "
+                "step_mm: 50, unloading: false}\nvertical_force: null\nlateral_force: null\n"
+                "longitudinal_force_patch: null\nlongitudinal_force_centre: null\n"
+                "aligning_torque: null\nopposite_travel: null\nsingle_wheel_travel: null\n"
+                "roll_vertical_force: null\nsteering: null\nlateral_force_anti_phase: null\n")
+    out = tmp_path / "opt"
+    r = CliRunner().invoke(main, ["optimize", "--config", str(DW), "--targets",
+                                  str(ROOT / "configs" / "targets"
+                                      / "double_wishbone_six_points.yaml"),
+                                  "--rig", str(rig), "--out", str(out), "--quiet"])
+    assert r.exit_code == 1 and "Traceback" not in r.output, r.output
+    assert "key 'characteristics.bump_steer_deg_per_m'" in r.output
+    assert "not determined on this rig" in r.output
+    assert not out.exists()
