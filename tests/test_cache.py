@@ -67,14 +67,14 @@ def _copy_case(case_path, tmp_path):
 
 
 @pytest.mark.slow
-def test_a_changed_input_is_never_answered_from_the_cache(case_path, tmp_path):
+def test_a_changed_input_is_never_answered_from_the_cache(case_path, coarse_travel, tmp_path):
     """One toe value of the K&C test data changed by 0.001 deg after a run: the next run
     recomputes every model (the identification, which does not read the test data, is
     reused); nothing changed, everything is reused."""
     config = _copy_case(case_path, tmp_path)
     out = tmp_path / "res"
     args = ["kc", "--config", str(config), "--out", str(out), "--quiet", "--models",
-            "initial,identified"]
+            "initial,identified", "--rig", str(coarse_travel)]
     assert CliRunner().invoke(main, args).exit_code == 0
     CliRunner().invoke(main, args)
     assert json.loads((out / "summary.json").read_text())["reused_from_cache"] == [
@@ -93,7 +93,7 @@ def test_a_changed_input_is_never_answered_from_the_cache(case_path, tmp_path):
 
 
 @pytest.mark.slow
-def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, tmp_path):
+def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, coarse_travel, tmp_path):
     """Two `elastokin kc` processes at once into the same folder: both succeed, the folder
     holds one run's complete results, and its cache entries serve the next run."""
     import subprocess
@@ -102,7 +102,7 @@ def test_concurrent_runs_into_one_folder_leave_valid_results(case_path, tmp_path
     out = tmp_path / "res"
     cmd = [sys.executable, "-c", "import sys; from elastokin.cli import main; "
            "sys.exit(main())", "kc", "--config", str(case_path), "--out", str(out),
-           "--quiet", "--models", "initial,identified"]
+           "--quiet", "--models", "initial,identified", "--rig", str(coarse_travel)]
     procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               text=True) for _ in range(2)]
     for p in procs:

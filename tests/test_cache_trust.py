@@ -298,11 +298,11 @@ def test_a_missing_key_file_is_made_and_old_entries_are_foreign(tmp_path, monkey
 
 # ------------------------------------------------------- the command, on every cached result
 @pytest.fixture(scope="module")
-def clean_run(tmp_path_factory) -> Path:
+def clean_run(tmp_path_factory, coarse_travel) -> Path:
     """`elastokin kc` on the case study with parallel travel only (identification, four
-    models, the stiffness fit): about 5 s."""
+    models, the stiffness fit): about 3 s."""
     out = tmp_path_factory.mktemp("clean") / "res"
-    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--rig", str(TRAVEL),
+    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--rig", str(coarse_travel),
                                        "--out", str(out), "--quiet"])
     assert result.exit_code == 0, result.output
     return out
@@ -317,8 +317,8 @@ def comparable(out: Path) -> dict:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name,attack", zip(KC_KINDS, sorted(ATTACKS)))
-def test_kc_into_a_folder_with_a_planted_entry_never_runs_it(clean_run, tmp_path, name,
-                                                             attack):
+def test_kc_into_a_folder_with_a_planted_entry_never_runs_it(clean_run, coarse_travel,
+                                                             tmp_path, name, attack):
     """For every cached result (each with another attack): `elastokin kc` without --refit
     into a results folder holding an entry crafted to run code prints one warning naming
     it, recomputes that result and gives the clean run's results; the code never runs."""
@@ -327,7 +327,7 @@ def test_kc_into_a_folder_with_a_planted_entry_never_runs_it(clean_run, tmp_path
     marker = tmp_path / "marker"
     entry = out / ".cache" / f"{name}.pkl"
     entry.write_bytes(ATTACKS[attack](entry.read_bytes(), marker))
-    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--rig", str(TRAVEL),
+    result = CliRunner().invoke(main, ["kc", "--config", str(CASE), "--rig", str(coarse_travel),
                                        "--out", str(out), "--quiet"])
     assert result.exit_code == 0, result.output
     assert not marker.exists()

@@ -151,9 +151,13 @@ def test_bad_input_one_clear_line(case_dict, tmp_path, case_name):
 
 
 @pytest.mark.slow  # elastokin kc end to end, twice
-def test_failed_run_keeps_previous_results(case_dict, tmp_path):
+def test_failed_run_keeps_previous_results(case_dict, case_path, tmp_path):
     out, good = tmp_path / "out", tmp_path / "good.yaml"
-    good.write_text(yaml.safe_dump(case_dict))  # the nominal model: no fit, a quick run
+    # the nominal model (no fit) on parallel travel only (configs/rigs/travel_only.yaml):
+    # a quick run whose results the failed run must leave alone
+    case_dict["rig"] = yaml.safe_load((case_path.parent / "rigs" / "travel_only.yaml")
+                                      .read_text())
+    good.write_text(yaml.safe_dump(case_dict))
     assert run_kc(good, out).exit_code == 0
     before = (out / "summary.json").read_text()
     case_dict["connections"]["J8"]["type"] = "ball"

@@ -191,7 +191,13 @@ def test_six_points_three_targets_checked_by_a_plain_kc(tmp_path):
     of the written config gives the same figures."""
     rig = write(tmp_path / "rig.yaml", "parallel_travel: {rebound_mm: -50, bump_mm: 50, "
                 "step_mm: 25, unloading: false}\nvertical_force: null\n")
-    targets = ROOT / "configs" / "targets" / "double_wishbone_six_points.yaml"
+    # the shipped targets, SLSQP stopped when its objective (start: 1) changes by less than
+    # 1e-5, not 1e-10: 17 model runs, not 35, every target then met with a third of its band
+    # to spare (the default polishes the objective deep inside the bands); the check against
+    # a plain kc does not depend on where it stops
+    shipped = ROOT / "configs" / "targets" / "double_wishbone_six_points.yaml"
+    targets = write(tmp_path / "targets.yaml",
+                    shipped.read_text() + "optimizer: {tolerance: 1.0e-5}\n")
     out = tmp_path / "opt"
     r = CliRunner().invoke(main, ["optimize", "--config", str(DW), "--targets", str(targets),
                                   "--rig", str(rig), "--out", str(out), "--quiet"])
@@ -254,4 +260,24 @@ def test_flexible_beams_are_refused_by_name(tmp_path):
                                   "--out", str(out), "--quiet"])
     assert r.exit_code == 1
     assert "flexible beam part(s) cross_beam" in r.output and "Traceback" not in r.output
+    assert not out.exists()
+
+
+def test_a_target_the_rig_cannot_determine_is_one_line(tmp_path):
+    """A characteristic target that the rig leaves undetermined (bump steer from 3 points of
+    travel, 50 mm apart: 2 in its +-50 mm window) stops with one line naming the targets
+    file, the key and why, not a traceback (exit code 1, nothing written)."""
+    rig = write(tmp_path / "rig.yaml", "parallel_travel: {rebound_mm: -50, bump_mm: 50, "
+                "step_mm: 50, unloading: false}\nvertical_force: null\nlateral_force: null\n"
+                "longitudinal_force_patch: null\nlongitudinal_force_centre: null\n"
+                "aligning_torque: null\nopposite_travel: null\nsingle_wheel_travel: null\n"
+                "roll_vertical_force: null\nsteering: null\nlateral_force_anti_phase: null\n")
+    out = tmp_path / "opt"
+    r = CliRunner().invoke(main, ["optimize", "--config", str(DW), "--targets",
+                                  str(ROOT / "configs" / "targets"
+                                      / "double_wishbone_six_points.yaml"),
+                                  "--rig", str(rig), "--out", str(out), "--quiet"])
+    assert r.exit_code == 1 and "Traceback" not in r.output, r.output
+    assert "key 'characteristics.bump_steer_deg_per_m'" in r.output
+    assert "not determined on this rig" in r.output
     assert not out.exists()

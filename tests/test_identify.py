@@ -244,16 +244,22 @@ def test_identify_cli_contract_and_identified_config_runs(tmp_path, case_path, c
     assert d["config_sha256"] and d["exudyn_version"]
     assert "Verification" in (out / "identification.txt").read_text()
     # the identified config is a config: kc runs it and gets the kc job's identified model
+    # (the steer amplitude: the config's parallel travel alone, the other load cases off; the
+    # kc job runs every load case on the identified model: case_kc)
+    rig = tmp_path / "travel.yaml"
+    rig.write_text(yaml.safe_dump({**{case: None for case in yaml.safe_load(
+        (CASE.parent / "rigs" / "travel_only.yaml").read_text())},
+        "parallel_travel": read_yaml(CASE)[0]["rig"]["parallel_travel"]}))
     kc_out = tmp_path / "kc"
     result = run("kc", "--config", out / "identified.yaml", "--out", kc_out, "--quiet",
                  "--models", "identified,identified_kinematic",  # the fit: test_kc_test
-                 "--data", CASE.parent)  # the test data beside the case study's config
+                 "--data", CASE.parent, "--rig", rig)  # the test data beside the config
     assert result.exit_code == 0, result.output
     # ... and so is initial.yaml, whose spring seats sit off its strut axis (the housing
     # centre moved J4): its kinematic model used to diverge (issue 15); the stiffness fit
     # belongs to the identified model (switched off in initial.yaml)
     result = run("kc", "--config", out / "initial.yaml", "--out", tmp_path / "kc_initial",
-                 "--quiet", "--data", CASE.parent)
+                 "--quiet", "--data", CASE.parent, "--rig", rig)
     assert result.exit_code == 0, result.output
     initial = json.loads((tmp_path / "kc_initial" / "summary.json").read_text())["models"]
     assert list(initial) == ["test", "initial", "initial_kinematic"]

@@ -71,6 +71,19 @@ def case_fit():
     return res, params, x, 1e-3 * typical_sizes(params, reach)
 
 
+@pytest.fixture(scope="module")
+def reruns(case_fit):
+    """The sweeps with tangents at the fit's point, and for each parameter the sweeps of the
+    two full re-runs at +- its step (plain runs: no tangents), computed once for the
+    tests below."""
+    res, params, x, steps = case_fit
+    values, variations = res.point(params, x)
+    exact = res.sweeps(values, variations)
+    plus_minus = [[res.sweeps(values_of(params, x + sign * steps[j] * np.eye(x.size)[j]))
+                   for sign in (1, -1)] for j in range(len(params))]
+    return values, exact, plus_minus
+
+
 def test_colour_classes_of_the_case_study(case_fit):
     """Knuckle rows depend on every arm through the ball joints and on the strut rod through
     the strut: two classes of coordinates are perturbed together, so a step costs 12
@@ -82,7 +95,7 @@ def test_colour_classes_of_the_case_study(case_fit):
                                                        ["knuckle"]]
 
 
-def test_sensitivities_match_full_reruns_on_every_channel(case_fit):
+def test_sensitivities_match_full_reruns_on_every_channel(case_fit, reruns):
     """Every wheel channel of every load case of the case study's test rig, for each of the
     six fitted parameters: the exact tangent (one run with sensitivities) against central
     differences of two full re-runs. Tolerance 1e-4 of the curve's largest derivative: the
@@ -94,13 +107,11 @@ def test_sensitivities_match_full_reruns_on_every_channel(case_fit):
     the pad's load at the tyre's lowest point: wheel travel under aligning torque moves
     4.6e-7 mm over the J1 cubic's step), which resolves no 1e-4 of such a change."""
     res, params, x, steps = case_fit
-    values, variations = res.point(params, x)
-    exact = res.sweeps(values, variations)
+    _, exact, plus_minus = reruns
     checked = 0
     for j, p in enumerate(params):
         h = steps[j]
-        step = h * np.eye(x.size)[j]
-        plus, minus = (res.sweeps(values_of(params, x + sign * step)) for sign in (1, -1))
+        plus, minus = plus_minus[j]
         for sw, a, b in zip(exact, plus, minus):
             for channel, tangent in sw.tangents.items():
                 fd = (a.columns[channel] - b.columns[channel]) / (2 * h)
@@ -113,28 +124,24 @@ def test_sensitivities_match_full_reruns_on_every_channel(case_fit):
     assert checked >= 6 * 6 * 4  # parameters x load cases x (at least) four channels
 
 
-def test_residual_jacobian_matches_full_reruns(case_fit):
+def test_residual_jacobian_matches_full_reruns(case_fit, reruns):
     """The fit's Jacobian (tangents through the interpolation at the test points) against
     central differences of the residual vector over full re-runs."""
     res, params, x, steps = case_fit
-    values, variations = res.point(params, x)
-    sweeps = res.sweeps(values, variations)
+    _, sweeps, plus_minus = reruns
     jac = res.jacobian(sweeps)
     for j in range(len(params)):
         h = steps[j]
-        step = h * np.eye(x.size)[j]
-        rp, rm = (res.differences(res.sweeps(values_of(params, x + s * step)))
-                  for s in (1, -1))
+        rp, rm = (res.differences(run) for run in plus_minus[j])
         fd = (rp - rm) / (2 * h)
         err = np.max(np.abs(jac[:, j] - fd)) / np.max(np.abs(fd))
         assert err <= 1e-4, (params[j].label, err)
 
 
-def test_sensitivity_run_gives_the_plain_run(case_fit):
+def test_sensitivity_run_gives_the_plain_run(case_fit, reruns):
     """The recorded steps are those of a plain run: sensitivities change nothing else."""
     res, params, x, _ = case_fit
-    values, variations = res.point(params, x)
-    with_sens = res.sweeps(values, variations)
+    values, with_sens, _ = reruns
     plain = res.sweeps(values)
     for a, b in zip(with_sens, plain):
         for k, v in b.columns.items():

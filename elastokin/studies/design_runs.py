@@ -78,13 +78,15 @@ def variable_step(v: DesignVariable, value: float) -> float:
 
 def flat_summary(summary: dict, prefix: str = "") -> dict[str, float]:
     """The numeric figures of a summary (nested dicts) by dotted key (the compliance
-    matrices left out)."""
+    matrices left out); a figure not determined (null) is NaN."""
     out: dict[str, float] = {}
     for k, v in summary.items():
         key = f"{prefix}{k}"
         if isinstance(v, dict) and "values" not in v:
             out.update(flat_summary(v, key + "."))
-        elif isinstance(v, (int, float)) and not isinstance(v, bool) and v is not None:
+        elif v is None:
+            out[key] = float("nan")
+        elif isinstance(v, (int, float)) and not isinstance(v, bool):
             out[key] = float(v)
     return out
 

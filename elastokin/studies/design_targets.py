@@ -24,6 +24,7 @@ import numpy as np
 
 from elastokin.config.schema_rig import RigSpec
 from elastokin.config.suspension import Suspension
+from elastokin.errors import ConfigError
 from elastokin.formats.targets import Targets, characteristic_unit
 from elastokin.rig.channels import CHARACTERISTICS
 from elastokin.rig.sweeps import Sweep, branch_names
@@ -181,10 +182,12 @@ def target_values(run: DesignRun, targets: Targets, label: str,
                               miss == 0.0, miss, unit))
     for name, t in spec.characteristics.items():
         value = run.summary[label].get(name)
-        if value is None:
-            raise ValueError(f"{targets.source}: key 'characteristics.{name}': the model "
-                             f"'{label}' does not give it (its load case or vehicle data "
-                             "missing)")
+        if value is None or not np.isfinite(value):
+            why = ("its load case or vehicle data missing" if name not in run.summary[label]
+                   else "not determined on this rig: a windowed slope needs at least 3 "
+                   "distinct points in its window, a finer step of the load case gives it")
+            raise ConfigError(f"{targets.source}: key 'characteristics.{name}': the model "
+                              f"'{label}' does not give it ({why})")
         grad = run.summary_tangents[label][name] if derivatives else np.zeros(n)
         rows.append(_characteristic(name, t, value, grad, terms, cons))
     for name, lk in spec.constraints.link_lengths.items():
