@@ -74,15 +74,15 @@ def main(argv: list[str] | None = None) -> dict | None:
     ap.add_argument("--replot", action="store_true",
                     help="only draw the chart again from the results JSON")
     args = ap.parse_args(argv)
+    out = args.out.resolve() if args.out else (QUICK_OUT if args.quick else None)
+    if args.quick and RESULTS.resolve() in (out, *out.parents):
+        raise SystemExit(f"--quick writes no committed result: --out {args.out} is in "
+                         "benchmarks/results")
     os.chdir(ROOT)  # the config named as in the repository (the charts' footer)
     if args.replot:
         doc = json.loads((RESULTS / "motion_positions.json").read_text())
         ek.draw_motion_positions_chart(doc, ROOT / "docs", ek.load_suspension(CONFIG))
         return doc
-    out = args.out.resolve() if args.out else (QUICK_OUT if args.quick else None)
-    if args.quick and RESULTS.resolve() in (out, *out.parents):
-        raise SystemExit(f"--quick writes no committed result: --out {args.out} is in "
-                         "benchmarks/results")
     draws = args.draws or (3 if args.quick else 100)
     s = ek.load_suspension(CONFIG)
     noise = s.motion.synthetic.noise_mm
