@@ -229,20 +229,31 @@ def draw_chart(canvas: ChartCanvas, data: ChartData, provenance: dict):
     return fig
 
 
-#: the charts a process draws: (draw function, chart data, file, provenance, svg); set before
-#: the worker process forks, so that the worker receives only indices
+#: the charts to draw: (draw function, chart data, file, provenance, svg), and the shared
+#: index of the next one to take; set before the worker process forks, so that the worker
+#: receives nothing but inherits both
 _JOBS: list[tuple] = []
+_NEXT: list = []
 _CANVAS: list[ChartCanvas] = []  # this process's canvas, made on first use
 
 
-def _draw_jobs(indices: list[int]) -> list[list[Path]]:
+def _draw_jobs(order: list[int]) -> list[tuple[int, list[Path]]]:
+    """Draw the charts of ``order`` not taken yet by the other process (``_NEXT``, a shared
+    counter into ``order``; without one, all): (job index, files) of those drawn here."""
     if not _CANVAS:
         _CANVAS.append(ChartCanvas())
     out = []
-    for i in indices:
-        draw, data, path, provenance, svg = _JOBS[i]
-        out.append(save_chart(draw(_CANVAS[0], data, provenance), path, svg))
-    return out
+    while True:
+        if _NEXT:
+            with _NEXT[0].get_lock():
+                k = _NEXT[0].value
+                _NEXT[0].value += 1
+        else:
+            k = len(out)
+        if k >= len(order):
+            return out
+        draw, data, path, provenance, svg = _JOBS[order[k]]
+        out.append((order[k], save_chart(draw(_CANVAS[0], data, provenance), path, svg)))
 
 
 def chart_jobs(sweeps: list[Sweep], out_dir: Path, provenance: dict, errors: dict | None,
@@ -275,31 +286,41 @@ def chart_jobs(sweeps: list[Sweep], out_dir: Path, provenance: dict, errors: dic
 def kc_charts(sweeps: list[Sweep], out_dir: Path, provenance: dict,
               errors: dict | None = None, svg: bool = False,
               axle: AxleChartInputs | None = None,
-              loads: LoadChartData | None = None) -> list[Path]:
+              loads: LoadChartData | None = None, meanwhile=None) -> list[Path]:
     """Every chart of a K&C run whose load case was run (:data:`CHART_LIST`; with ``axle``,
     :func:`~elastokin.report.axle_charts.axle_chart_inputs`, the config side's wheel and the
     axle's charts too), each overlaying all models, as PNG (and SVG with ``svg``);
     ``errors``: summary.json's ``errors`` (model -> metric -> RMS), for the legends of the
     Fig. 9 charts (other RMS errors are computed from the sweeps, the same way); ``loads``:
     the largest loads per element (:func:`~elastokin.report.load_charts.load_chart_data`).
-    Where the platform forks (Linux) and has two cores, a forked process draws every other
-    chart while this one draws the rest. Returns the files written, in chart order."""
+    Where the platform forks (Linux) and has two cores, a forked process and this one take
+    the charts in turn, each the next not taken, this one after ``meanwhile()`` (other work,
+    e.g. the files the charts do not need; without a fork it runs first). Returns the files
+    written, in chart order."""
     jobs = chart_jobs(sweeps, out_dir, provenance, errors, svg, axle, loads)
+    # the largest-loads chart, the longest to draw (a bar per element), first
+    order = sorted(range(len(jobs)), key=lambda i: jobs[i][0] is not draw_load_chart)
     _JOBS[:] = jobs
     try:
-        mine, theirs = list(range(0, len(jobs), 2)), list(range(1, len(jobs), 2))
         if len(jobs) > 2 and sys.platform.startswith("linux") and (os.cpu_count() or 1) > 1:
             import multiprocessing
 
+            ctx = multiprocessing.get_context("fork")
             ChartCanvas()  # matplotlib imported once, before the fork
-            with multiprocessing.get_context("fork").Pool(1) as pool:
-                pending = pool.apply_async(_draw_jobs, (theirs,))
-                done = dict(zip(mine, _draw_jobs(mine)))
-                done.update(zip(theirs, pending.get()))
+            _NEXT[:] = [ctx.Value("i", 0)]
+            with ctx.Pool(1) as pool:
+                pending = pool.apply_async(_draw_jobs, (order,))
+                if meanwhile is not None:
+                    meanwhile()
+                done = dict(_draw_jobs(order))
+                done.update(pending.get())
         else:
-            done = dict(enumerate(_draw_jobs(list(range(len(jobs))))))
+            if meanwhile is not None:
+                meanwhile()
+            done = dict(_draw_jobs(order))
     finally:
         _JOBS.clear()
+        _NEXT.clear()
     return [path for i in sorted(done) for path in done[i]]
 
 

@@ -322,7 +322,6 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
               for sw in [*m.sweeps, *(o for side in m.other_sides.values() for o in side)]]
     write_kc_csv(folder / "kc.csv", sweeps, prov, run.suspension.side)
     files = ["kc.csv", "summary.json"]
-    loads = ["loads.csv"] if write_loads_csv(folder / "loads.csv", run.models, prov) else []
     ident = None
     if run.identification is not None:
         ident = write_identification(folder, run.identification, prov)
@@ -334,14 +333,18 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     if run.stiffness is not None:
         files += write_stiffness_identification(folder, run.stiffness, prov)
     summary = summary_dict(run, list(files))  # the axle charts' legends need its figures
+    later = {}  # loads.csv and the 3D views: made while the other process draws charts
     charts = kc_charts(sweeps, folder, prov, run.errors, svg, axle_chart_inputs(summary),
-                       load_chart_data(summary))
+                       load_chart_data(summary), lambda: later.update(
+                           loads=write_loads_csv(folder / "loads.csv", run.models, prov),
+                           views=run_views(run)))
+    loads = ["loads.csv"] if later["loads"] else []
     load_chart = [p.name for p in charts if p.stem == LOAD_CHART]
     files += [p.name for p in charts if p.stem != LOAD_CHART] + ["report.html"]
     files += loads + load_chart
     summary["files"] = files
     write_summary(folder / "summary.json", summary)
-    views, overlay = run_views(run)
+    views, overlay = later["views"]
     view = (view_fragment(views, overlay, lazy=True), overlay.factor if overlay else None) \
         if views else None
     write_report(folder / "report.html", summary, charts, ident, motion, view)
