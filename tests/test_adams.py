@@ -1,4 +1,4 @@
-"""ADAMS/Car interoperability (elastokin.formats.teimorbit, adams_car, adams_export, adams_kc;
+"""ADAMS/Car interoperability (elastokin.formats.adams.teimorbit, adams_car, adams_export, adams_kc;
 docs/adams.md): the TeimOrbit reader and its unit conversion, bushing property files, hardpoint
 tables and frames, the export, the round trip through ADAMS files, and the import-adams /
 export-adams commands.
@@ -19,7 +19,10 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
-from elastokin.formats import adams_car, adams_export, adams_kc, teimorbit
+from elastokin.formats.adams import car as adams_car
+from elastokin.formats.adams import export as adams_export
+from elastokin.formats.adams import kc as adams_kc
+from elastokin.formats.adams import teimorbit
 
 from .suspension_checks import assert_same_bushings, scrambled
 

@@ -1,4 +1,4 @@
-"""ADAMS/Car files of an axle (elastokin.formats.adams_axle, adams_assembly_rows, adams_import,
+"""ADAMS/Car files of an axle (elastokin.formats.adams.axle, adams_assembly_rows, adams_import,
 adams_axle_files; docs/adams.md "Axles"): the suspension subsystem with its left/right pairs
 (symmetric, or a left and a right row/block where axle.other_side makes the sides differ), the
 anti-roll bar subsystem (hardpoints, mount bushing, torsional rate in [PARAMETER]), the steering
@@ -23,18 +23,18 @@ from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.config.schema_rig import RollSpec, SteeringSweepSpec
 from elastokin.config.variants import corner
 from elastokin.errors import ConfigError
-from elastokin.formats import adams_car
-from elastokin.formats.adams_assemblies import read_bushing_assemblies, read_spring_assemblies
-from elastokin.formats.adams_axle import axle_subsystems, mm_per_rev, rack_ratio_rad_per_m
-from elastokin.formats.adams_axle_files import rack_ratio_check, read_parameters
-from elastokin.formats.adams_export import export_adams
-from elastokin.formats.adams_import import (
+from elastokin.formats.adams import car as adams_car
+from elastokin.formats.adams.assemblies import read_bushing_assemblies, read_spring_assemblies
+from elastokin.formats.adams.axle import axle_subsystems, mm_per_rev, rack_ratio_rad_per_m
+from elastokin.formats.adams.axle_files import rack_ratio_check, read_parameters
+from elastokin.formats.adams.export import export_adams
+from elastokin.formats.adams.importing import (
     assembly_subsystems,
     import_adams_axle,
     subsystem_files,
     subsystem_role,
 )
-from elastokin.formats.adams_mapping import read_mapping
+from elastokin.formats.adams.mapping import read_mapping
 from elastokin.mbs.design import build_model, design_state
 from elastokin.mbs.model import ModelOptions
 from elastokin.physics.axle_sweeps import roll_stiffness_Nmm_per_deg

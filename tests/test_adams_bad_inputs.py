@@ -15,9 +15,9 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import import_adams, read_bushing, read_hardpoints
-from elastokin.formats.adams_import import subsystem_files
-from elastokin.formats.adams_mapping import read_mapping
+from elastokin.formats.adams.car import import_adams, read_bushing, read_hardpoints
+from elastokin.formats.adams.importing import subsystem_files
+from elastokin.formats.adams.mapping import read_mapping
 
 ADAMS = Path(__file__).parent / "data" / "adams"
 WISHBONE = Path(__file__).parent / "data" / "double_wishbone.yaml"

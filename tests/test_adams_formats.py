@@ -18,10 +18,12 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml, suspension_from_dict
 from elastokin.errors import ConfigError
-from elastokin.formats import adams_car, adams_export, teimorbit
-from elastokin.formats.adams_assemblies import read_bushing_assemblies, read_spring_assemblies
-from elastokin.formats.adams_curves import akima, akima_deviation
-from elastokin.formats.adams_mapping import read_mapping
+from elastokin.formats.adams import car as adams_car
+from elastokin.formats.adams import export as adams_export
+from elastokin.formats.adams import teimorbit
+from elastokin.formats.adams.assemblies import read_bushing_assemblies, read_spring_assemblies
+from elastokin.formats.adams.curves import akima, akima_deviation
+from elastokin.formats.adams.mapping import read_mapping
 
 DATA = Path(__file__).parent / "data"
 ADAMS = DATA / "adams"

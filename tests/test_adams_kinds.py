@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from elastokin.config.loading import read_yaml, suspension_from_dict
-from elastokin.formats import adams_car
-from elastokin.formats.adams_assemblies import read_bushing_assemblies, read_spring_assemblies
-from elastokin.formats.adams_export import export_adams, subsystem_spec
-from elastokin.formats.adams_import import import_adams_axle, subsystem_files
-from elastokin.formats.adams_mapping import read_mapping
+from elastokin.formats.adams import car as adams_car
+from elastokin.formats.adams.assemblies import read_bushing_assemblies, read_spring_assemblies
+from elastokin.formats.adams.export import export_adams, subsystem_spec
+from elastokin.formats.adams.importing import import_adams_axle, subsystem_files
+from elastokin.formats.adams.mapping import read_mapping
 from elastokin.mbs.design import design_state
 
 from .suspension_checks import assert_same_bushings, scrambled

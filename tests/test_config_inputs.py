@@ -18,7 +18,7 @@ from elastokin.config.loading import load_rig, load_suspension, parse_yaml, read
 from elastokin.config.schema_base import CurveSpec
 from elastokin.config.schema_rig import RigSpec
 from elastokin.errors import ConfigError, ElastokinError
-from elastokin.formats.adams_car import read_mapping
+from elastokin.formats.adams.car import read_mapping
 from elastokin.formats.cmm_parts import read_truth
 from elastokin.rig.paths import sweep_path, travel_path, vertical_force_path
 

@@ -25,9 +25,9 @@ from elastokin.cli.main import main
 from elastokin.config.confined import data_folders
 from elastokin.config.loading import load_suspension, read_yaml
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import import_adams, read_hardpoints
-from elastokin.formats.adams_import import subsystem_files
-from elastokin.formats.adams_mapping import read_mapping
+from elastokin.formats.adams.car import import_adams, read_hardpoints
+from elastokin.formats.adams.importing import subsystem_files
+from elastokin.formats.adams.mapping import read_mapping
 from elastokin.formats.cmm_parts import measurement_paths
 from elastokin.formats.kc_test_sweeps import read_test_sweeps
 from elastokin.identification.geometric import identify

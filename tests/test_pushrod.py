@@ -261,7 +261,7 @@ REAL = Path(__file__).resolve().parents[2] / "shared" / "adams_real" / \
 
 @pytest.mark.skipif(not REAL.is_file(), reason="../shared/adams_real is absent")
 def test_the_hardpoints_are_what_import_adams_reads_from_the_real_subsystem():
-    from elastokin.formats.adams_car import import_adams
+    from elastokin.formats.adams.car import import_adams
 
     d = config(NAME)
     cfg, warnings = import_adams(copy.deepcopy(d), REAL, MAPPING)
@@ -274,12 +274,12 @@ def test_adams_round_trip_with_the_real_names(tmp_path):
     import back onto a template whose every hardpoint moved: the hardpoints to the bit, the
     axle section, springs and dampers unchanged; the coil-over a left/right spring, the heave
     spring a single one, the damper a left/right damper with its property file."""
-    from elastokin.formats import adams_car
-    from elastokin.formats.adams_assemblies import read_assemblies, read_spring_assemblies
-    from elastokin.formats.adams_export import export_adams
-    from elastokin.formats.adams_import import import_adams_axle, subsystem_files
-    from elastokin.formats.adams_mapping import read_mapping
-    from elastokin.formats.teimorbit import read_teimorbit
+    from elastokin.formats.adams import car as adams_car
+    from elastokin.formats.adams.assemblies import read_assemblies, read_spring_assemblies
+    from elastokin.formats.adams.export import export_adams
+    from elastokin.formats.adams.importing import import_adams_axle, subsystem_files
+    from elastokin.formats.adams.mapping import read_mapping
+    from elastokin.formats.adams.teimorbit import read_teimorbit
     from elastokin.mbs.design import design_state
 
     from .suspension_checks import scrambled

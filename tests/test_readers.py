@@ -14,10 +14,10 @@ from click.testing import CliRunner
 from elastokin.cli.main import main
 from elastokin.config.loading import load_suspension
 from elastokin.errors import ConfigError, ElastokinError, MeasurementError
-from elastokin.formats.adams_kc import write_adams_kc_csv
+from elastokin.formats.adams.kc import write_adams_kc_csv
+from elastokin.formats.adams.teimorbit import read_teimorbit
 from elastokin.formats.cmm import read_points, write_points
 from elastokin.formats.kc_test import read_kc_test
-from elastokin.formats.teimorbit import read_teimorbit
 from elastokin.identification.geometric import identify
 
 ROOT = Path(__file__).resolve().parents[1]

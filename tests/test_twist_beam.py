@@ -236,9 +236,9 @@ def test_adams_car_export_and_import(tmp_path, bushed):
     spring) and imports back onto its template config: the hardpoints and the bushing laws
     exactly; the flexible beam is not exported (a warning says why and the subsystem file
     carries its section as comments), the template's is kept."""
-    from elastokin.formats.adams_export import export_adams
-    from elastokin.formats.adams_import import import_adams_axle, subsystem_files
-    from elastokin.formats.adams_mapping import read_mapping
+    from elastokin.formats.adams.export import export_adams
+    from elastokin.formats.adams.importing import import_adams_axle, subsystem_files
+    from elastokin.formats.adams.mapping import read_mapping
 
     from .suspension_checks import assert_same_bushings
 

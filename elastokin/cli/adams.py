@@ -86,10 +86,10 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
     axle template also the other side, the anti-roll bar and the steering rack ratio."""
     from elastokin.config.loading import read_yaml, suspension_from_dict
     from elastokin.config.variants import relabelled
-    from elastokin.formats.adams_car import read_bushing
-    from elastokin.formats.adams_database import input_roots
-    from elastokin.formats.adams_import import import_adams_axle, subsystem_files
-    from elastokin.formats.adams_mapping import read_mapping
+    from elastokin.formats.adams.car import read_bushing
+    from elastokin.formats.adams.database import input_roots
+    from elastokin.formats.adams.importing import import_adams_axle, subsystem_files
+    from elastokin.formats.adams.mapping import read_mapping
     from elastokin.formats.config_yaml import dump_config
 
     with WarningLog() as log:
@@ -239,10 +239,10 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
     (for import-adams). An axle: its left/right pairs, and its anti-roll bar and steering
     subsystems (bar rate, rack_ratio) with an assembly (assemblies.tbl/<name>.asy)."""
     from elastokin.config.loading import load_suspension, suspension_from_dict
-    from elastokin.formats.adams_export import export_adams as write_files
-    from elastokin.formats.adams_export import subsystem_spec
-    from elastokin.formats.adams_kc import write_adams_kc_csv
-    from elastokin.formats.adams_mapping import read_mapping
+    from elastokin.formats.adams.export import export_adams as write_files
+    from elastokin.formats.adams.export import subsystem_spec
+    from elastokin.formats.adams.kc import write_adams_kc_csv
+    from elastokin.formats.adams.mapping import read_mapping
 
     output = _export_output(out_dir)
     warnings: list[str] = []

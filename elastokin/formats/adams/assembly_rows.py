@@ -19,10 +19,10 @@ import numpy as np
 from elastokin.config.axle import MIRROR_SIGNS, mirrored_laws, other_side
 from elastokin.config.suspension import Bushing, Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import clean
-from elastokin.formats.adams_mapping import config_to_adams, frame_signs
-from elastokin.formats.adams_property_files import number
-from elastokin.formats.adams_subsystem import AssemblyRow, SubsystemSpec
+from elastokin.formats.adams.car import clean
+from elastokin.formats.adams.mapping import config_to_adams, frame_signs
+from elastokin.formats.adams.property_files import number
+from elastokin.formats.adams.subsystem import AssemblyRow, SubsystemSpec
 from elastokin.physics.pose import euler_zxz_deg
 
 __all__ = ["bushing_rows", "damper_rows", "is_mirrored_axle", "spring_rows"]

@@ -1,16 +1,16 @@
 """ADAMS/Car files in: bushing property files (``.bus``, or XML), and :func:`import_adams` (an
-elastokin config from them and a hardpoint table, :mod:`elastokin.formats.adams_hardpoints`,
+elastokin config from them and a hardpoint table, :mod:`elastokin.formats.adams.hardpoints`,
 through a mapping file; every file named inside the databases given,
-:mod:`elastokin.formats.adams_database`).
+:mod:`elastokin.formats.adams.database`).
 
 Pure Python/numpy (no Exudyn). Values are in elastokin units (mm, N, N*mm, deg), converted on
-reading by :mod:`elastokin.formats.teimorbit`. ADAMS/Car's global frame is X rearward, Y right,
-Z up; a ``left/right`` hardpoint row stores its left point (Y < 0), the right one is its Y
+reading by :mod:`elastokin.formats.adams.teimorbit`. ADAMS/Car's global frame is X rearward,
+Y right, Z up; a ``left/right`` hardpoint row stores its left point (Y < 0), the right one is its Y
 mirror; an asymmetric pair is two rows, ``left`` and ``right``, each its own point. Frames and
-the mapping file: :mod:`elastokin.formats.adams_mapping`; assembly blocks (left/right kept
-apart): :mod:`elastokin.formats.adams_assemblies`. Bushing curves are in the bushing frame and
+the mapping file: :mod:`elastokin.formats.adams.mapping`; assembly blocks (left/right kept
+apart): :mod:`elastokin.formats.adams.assemblies`. Bushing curves are in the bushing frame and
 become piecewise-linear laws (:mod:`elastokin.physics.laws`); ADAMS interpolates them with an
-Akima spline (:mod:`elastokin.formats.adams_curves`). Conventions: ``docs/adams.md``.
+Akima spline (:mod:`elastokin.formats.adams.curves`). Conventions: ``docs/adams.md``.
 """
 
 from __future__ import annotations
@@ -25,25 +25,25 @@ import numpy as np
 
 from elastokin.config.confined import Roots
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_assemblies import read_assemblies, read_bushing_assemblies
-from elastokin.formats.adams_bushing_xml import is_xml, read_bushing_xml
-from elastokin.formats.adams_curves import akima_deviation
-from elastokin.formats.adams_database import database_file, input_roots, subsystem_file
-from elastokin.formats.adams_hardpoints import (
+from elastokin.formats.adams.assemblies import read_assemblies, read_bushing_assemblies
+from elastokin.formats.adams.bushing_xml import is_xml, read_bushing_xml
+from elastokin.formats.adams.curves import akima_deviation
+from elastokin.formats.adams.database import database_file, input_roots, subsystem_file
+from elastokin.formats.adams.hardpoints import (
     HARDPOINT_COLUMNS,
     SYMMETRIES,
     AdamsHardpoint,
     lookup_hardpoint,
     read_hardpoints,
 )
-from elastokin.formats.adams_mapping import (
+from elastokin.formats.adams.mapping import (
     AdamsMapping,
     adams_to_config,
     config_to_adams,
     frame_signs,
     read_mapping,
 )
-from elastokin.formats.teimorbit import Units, read_teimorbit
+from elastokin.formats.adams.teimorbit import Units, read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
 from elastokin.physics.laws import DirectionLaw, law_from_spec
 

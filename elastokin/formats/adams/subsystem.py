@@ -24,8 +24,8 @@ import numpy as np
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_mapping import AdamsMapping, config_to_adams
-from elastokin.formats.adams_property_files import UNITS_LINES, key_line, number, provenance, rule
+from elastokin.formats.adams.mapping import AdamsMapping, config_to_adams
+from elastokin.formats.adams.property_files import UNITS_LINES, key_line, number, provenance, rule
 
 __all__ = [
     "MAJOR_ROLES",

@@ -12,7 +12,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_car import clean, frame_signs
+from elastokin.formats.adams.car import clean, frame_signs
 from elastokin.rig.channels import CHANNEL_LIST, channel
 from elastokin.version import __version__
 

@@ -8,7 +8,7 @@ Pure Python/numpy. Curves are in the bushing frame (elastokin's ``+K*u`` convent
 rate is written as a straight table over +-``range``, a curve as given (extended with its end
 slopes to that range when narrower). ADAMS interpolates the table with an Akima spline: at the
 table points it equals elastokin's piecewise-linear law; between them it differs by
-:func:`elastokin.formats.adams_curves.akima_deviation` (zero for a straight table).
+:func:`elastokin.formats.adams.curves.akima_deviation` (zero for a straight table).
 Conventions: ``docs/adams.md``.
 """
 
@@ -18,8 +18,8 @@ import math
 from collections.abc import Sequence
 
 from elastokin.config.suspension import Suspension
-from elastokin.formats.adams_car import BUSHING_CURVES, clean
-from elastokin.formats.adams_curves import akima_deviation
+from elastokin.formats.adams.car import BUSHING_CURVES, clean
+from elastokin.formats.adams.curves import akima_deviation
 from elastokin.physics.laws import DirectionLaw
 from elastokin.version import __version__
 

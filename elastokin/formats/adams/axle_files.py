@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_axle import mm_per_rev
-from elastokin.formats.teimorbit import QUANTITY_UNITS, TeimOrbitFile, read_teimorbit
+from elastokin.formats.adams.axle import mm_per_rev
+from elastokin.formats.adams.teimorbit import QUANTITY_UNITS, TeimOrbitFile, read_teimorbit
 from elastokin.physics.laws import DirectionLaw
 
 __all__ = [

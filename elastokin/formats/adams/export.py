@@ -3,7 +3,7 @@ subsystem file, a bushing property file per bushing and a spring property file p
 the mapping file that imports them back. An axle is written as ADAMS/Car keeps one: the
 suspension subsystem (its ``left/right`` pairs symmetric when the axle is mirrored, a ``left``
 and a ``right`` row or block where ``axle.other_side`` makes the sides differ), an anti-roll bar
-subsystem and a steering subsystem (:mod:`elastokin.formats.adams_axle`), and a suspension
+subsystem and a steering subsystem (:mod:`elastokin.formats.adams.axle`), and a suspension
 assembly naming them.
 
 Layout of ``out_dir`` (name it ``<database>.cdb``)::
@@ -35,8 +35,8 @@ from pathlib import Path
 
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_assembly_rows import bushing_rows, damper_rows, spring_rows
-from elastokin.formats.adams_axle import (
+from elastokin.formats.adams.assembly_rows import bushing_rows, damper_rows, spring_rows
+from elastokin.formats.adams.axle import (
     AXLE_ROLES,
     arb_parameters,
     assembly_text,
@@ -45,13 +45,13 @@ from elastokin.formats.adams_axle import (
     kept_once_hardpoints,
     steering_parameters,
 )
-from elastokin.formats.adams_mapping import PARAMETER_KEYS, AdamsMapping
-from elastokin.formats.adams_property_files import (
+from elastokin.formats.adams.mapping import PARAMETER_KEYS, AdamsMapping
+from elastokin.formats.adams.property_files import (
     bushing_file_text,
     damper_file_text,
     spring_file_text,
 )
-from elastokin.formats.adams_subsystem import (
+from elastokin.formats.adams.subsystem import (
     MINOR_ROLES,
     SubsystemSpec,
     adams_role,
@@ -94,7 +94,7 @@ def subsystem_spec(s: Suspension, mapping: AdamsMapping | None = None,
     suspension, front (an axle's ``vehicle.position``); template: ``_<name>.tpl`` in the
     database, with a warning). A bare template name (``_double_wishbone``) is taken in
     ``acar_shared``. What is given must be what ADAMS/Car and ``import-adams`` read
-    (:func:`~elastokin.formats.adams_subsystem.template_path`, ``file_name``, ``adams_role``):
+    (:func:`~elastokin.formats.adams.subsystem.template_path`, ``file_name``, ``adams_role``):
     an error names the option or the mapping key."""
     sub = mapping.subsystem if mapping else {}
 

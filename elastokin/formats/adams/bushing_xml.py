@@ -19,8 +19,8 @@ from pathlib import Path
 from xml.parsers import expat
 
 from elastokin.errors import ConfigError
-from elastokin.formats.teimorbit import decode_text
-from elastokin.formats.teimorbit_units import QUANTITY_UNITS, UNIT_FACTORS, Units, unit_factor
+from elastokin.formats.adams.teimorbit import decode_text
+from elastokin.formats.adams.teimorbit_units import QUANTITY_UNITS, UNIT_FACTORS, Units, unit_factor
 
 __all__ = ["XML_DIRECTIONS", "XmlBushing", "is_xml", "read_bushing_xml"]
 

@@ -4,7 +4,7 @@
 Pure Python/numpy. ADAMS/Car writes one block per USAGE with ``SYMMETRY = 'left/right'`` (the
 same values on both sides) or ``'single'``, and a left/right pair whose sides differ as two
 blocks of the same USAGE, ``SYMMETRY = 'left'`` and ``'right'``: each is read into its side.
-Values are in elastokin units (converted by :mod:`elastokin.formats.teimorbit`).
+Values are in elastokin units (converted by :mod:`elastokin.formats.adams.teimorbit`).
 Conventions: ``docs/adams.md``.
 """
 
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from elastokin.formats.teimorbit import TeimOrbitFile, read_teimorbit
+from elastokin.formats.adams.teimorbit import TeimOrbitFile, read_teimorbit
 
 __all__ = [
     "ASSEMBLY_SIDES",

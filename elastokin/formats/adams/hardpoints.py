@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_database import subsystem_file
-from elastokin.formats.teimorbit import TeimOrbitFile, read_teimorbit
+from elastokin.formats.adams.database import subsystem_file
+from elastokin.formats.adams.teimorbit import TeimOrbitFile, read_teimorbit
 
 __all__ = [
     "HARDPOINT_COLUMNS",
@@ -103,7 +103,7 @@ def read_hardpoints(path: str | Path, warnings: list[str] | None = None
     """Every row of every ``{hardpoint_name symmetry x_value y_value z_value}`` table of a
     TeimOrbit file (a subsystem ``.sub``, an assembly ``.asy`` or a hardpoint table), converted
     to mm. ``path`` may also be an ADAMS/Car database folder
-    (:func:`~elastokin.formats.adams_database.subsystem_file`). What was read tolerantly is
+    (:func:`~elastokin.formats.adams.database.subsystem_file`). What was read tolerantly is
     appended to ``warnings``."""
     f = read_teimorbit(subsystem_file(path))
     if warnings is not None:

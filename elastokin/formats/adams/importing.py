@@ -8,7 +8,7 @@ files given, an ADAMS/Car database or an assembly file (:func:`subsystem_files`)
 Pure Python/numpy. Values in elastokin units (mm, N, N*mm, deg; a ``[PARAMETER]`` value in the
 subsystem's ``[UNITS]``, except ``rack_ratio``: rad/m, S.I., as ADAMS/Car gives it); points
 converted from ADAMS/Car's frame (X rearward, Y right, Z up) to the template's. A corner
-template is imported as before (:func:`elastokin.formats.adams_car.import_adams`).
+template is imported as before (:func:`elastokin.formats.adams.car.import_adams`).
 Conventions: ``docs/adams.md``, "Axles".
 """
 
@@ -25,18 +25,18 @@ import numpy as np
 from elastokin.config.axle import MIRROR, MIRRORED_DIRECTIONS, other_side, reflected_law
 from elastokin.config.confined import Roots, confined_path
 from elastokin.errors import ConfigError
-from elastokin.formats.adams_assemblies import read_bushing_assemblies
-from elastokin.formats.adams_axle_files import rack_ratio_check, read_curve, read_parameters
-from elastokin.formats.adams_car import (
+from elastokin.formats.adams.assemblies import read_bushing_assemblies
+from elastokin.formats.adams.axle_files import rack_ratio_check, read_curve, read_parameters
+from elastokin.formats.adams.car import (
     adams_to_config,
     clean,
     import_subsystem,
     lookup_hardpoint,
     read_bushing,
 )
-from elastokin.formats.adams_database import database_file, input_roots, subsystem_file
-from elastokin.formats.adams_mapping import AdamsMapping, read_mapping
-from elastokin.formats.teimorbit import read_teimorbit
+from elastokin.formats.adams.database import database_file, input_roots, subsystem_file
+from elastokin.formats.adams.mapping import AdamsMapping, read_mapping
+from elastokin.formats.adams.teimorbit import read_teimorbit
 from elastokin.physics.joints import BUSHING_DIRECTIONS
 from elastokin.physics.laws import law_from_spec
 

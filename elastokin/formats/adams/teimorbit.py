@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from elastokin.errors import ConfigError
-from elastokin.formats.teimorbit_units import (
+from elastokin.formats.adams.teimorbit_units import (
     COLUMN_QUANTITIES,
     KEY_QUANTITIES,
     QUANTITY_UNITS,

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 from elastokin.config.axle import declared_once
 from elastokin.config.suspension import Suspension
-from elastokin.formats.adams_property_files import (
+from elastokin.formats.adams.property_files import (
     UNITS_LINES,
     header_lines,
     key_line,
@@ -28,7 +28,7 @@ from elastokin.formats.adams_property_files import (
     rule,
     table_lines,
 )
-from elastokin.formats.adams_subsystem import ParameterRow, SubsystemSpec
+from elastokin.formats.adams.subsystem import ParameterRow, SubsystemSpec
 from elastokin.physics.laws import DirectionLaw
 
 __all__ = [
