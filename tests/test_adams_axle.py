@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from elastokin.cli.main import main
 from elastokin.config.loading import read_yaml, suspension_from_dict
-from elastokin.config.schema_rig import RollSpec, SteeringSweepSpec
+from elastokin.config.schema.rig import RollSpec, SteeringSweepSpec
 from elastokin.config.variants import corner
 from elastokin.errors import ConfigError
 from elastokin.formats.adams import car as adams_car

@@ -9,7 +9,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from elastokin.config.schema import Frame
+from elastokin.config.schema.suspension import Frame
 from elastokin.config.suspension import Suspension
 from elastokin.physics.steering_geometry import (
     axis_from_points,

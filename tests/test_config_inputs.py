@@ -15,8 +15,8 @@ import yaml
 
 from elastokin.config import bounds
 from elastokin.config.loading import load_rig, load_suspension, parse_yaml, read_yaml
-from elastokin.config.schema_base import CurveSpec
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.base import CurveSpec
+from elastokin.config.schema.rig import RigSpec
 from elastokin.errors import ConfigError, ElastokinError
 from elastokin.formats.adams.car import read_mapping
 from elastokin.formats.cmm_parts import read_truth

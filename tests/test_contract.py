@@ -46,7 +46,7 @@ KINDS = {"multilink": CONFIGS / "multilink_axle.yaml",
 
 def coarse_rig(data: dict) -> dict:
     """The config's rig (its ranges: each suspension has its own) in few, large steps."""
-    from elastokin.config.schema_rig import RigSpec
+    from elastokin.config.schema.rig import RigSpec
 
     rig = RigSpec.model_validate(data.get("rig") or {}).model_dump()
     travel, vertical = rig["parallel_travel"], rig["vertical_force"]

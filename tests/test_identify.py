@@ -12,7 +12,7 @@ from click.testing import CliRunner
 
 from elastokin.cli.main import main
 from elastokin.config.loading import load_suspension, read_yaml, suspension_from_dict
-from elastokin.config.schema import ClearanceSpec
+from elastokin.config.schema.suspension import ClearanceSpec
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm import read_points, write_points
 from elastokin.physics.pose import clearance_bound_mm, pose_error_gain

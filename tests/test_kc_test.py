@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 from elastokin.cli.main import main
 from elastokin.config.loading import load_rig, load_suspension, read_yaml, suspension_from_dict
-from elastokin.config.schema_rig import ForceSweepSpec, RigSpec, TorqueSweepSpec
+from elastokin.config.schema.rig import ForceSweepSpec, RigSpec, TorqueSweepSpec
 from elastokin.config.variants import DesignState
 from elastokin.errors import MeasurementError
 from elastokin.formats.kc_test import read_kc_test, write_kc_test

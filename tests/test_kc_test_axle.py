@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from elastokin.config.loading import read_yaml, suspension_from_dict
-from elastokin.config.schema_rig import RollSpec, TravelSpec
+from elastokin.config.schema.rig import RollSpec, TravelSpec
 from elastokin.errors import ConfigError, MeasurementError
 from elastokin.formats.kc_test import CHANNELS, LOAD_CASES, read_kc_test, write_kc_test
 from elastokin.formats.kc_test_sweeps import axle_test_channels, read_test_sweeps, to_sweep

@@ -2,7 +2,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.config.schema_base import CurveSpec
+from elastokin.config.schema.base import CurveSpec
 from elastokin.physics.laws import DirectionLaw, law_from_spec
 
 

@@ -10,7 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm_motion import MotionMeasurement
 from elastokin.identification.motion.conditioning import check_located, located_condition

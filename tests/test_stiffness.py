@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from elastokin.config.schema import StiffnessIdentificationSpec
+from elastokin.config.schema.suspension import StiffnessIdentificationSpec
 from elastokin.errors import ConfigError
 from elastokin.identification.stiffness import Residuals, identify_stiffness, with_stiffness
 from elastokin.identification.stiffness_results import effective_residual_count, stiffness_config

@@ -22,7 +22,7 @@ from dataclasses import replace
 import numpy as np
 
 from elastokin.config.plausibility import implausible
-from elastokin.config.schema_axle import AxleSpec, SteeringSpec
+from elastokin.config.schema.axle import AxleSpec, SteeringSpec
 from elastokin.physics.laws import DirectionLaw
 
 #: a point is on the centre plane within this distance (mm)

@@ -32,8 +32,8 @@ from elastokin.config.axle import (
 )
 from elastokin.config.beams import check_beam_attachments, mirrored_beam, shared_beam
 from elastokin.config.resolver import Resolver
-from elastokin.config.schema import RackSpec
-from elastokin.config.schema_base import AxisBetween
+from elastokin.config.schema.base import AxisBetween
+from elastokin.config.schema.suspension import RackSpec
 from elastokin.config.suspension import AntiRollBar, Axle, Steering, Suspension
 from elastokin.physics.joints import CONSTRAINED
 from elastokin.physics.laws import DirectionLaw, law_from_spec

@@ -1,4 +1,4 @@
-"""Resolving flexible beam parts (a part's ``beam:`` section, :mod:`elastokin.config.schema_beam`)
+"""Resolving flexible beam parts (a part's ``beam:`` section, :mod:`elastokin.config.schema.beam`)
 into :class:`~elastokin.config.suspension.Beam`: nodes at named hardpoints, section axes and
 shear-centre offset per segment; on an axle the other side's copy, or for a shared beam (one
 piece across the car) the other half, mirrored; every connection to a beam made at one of its

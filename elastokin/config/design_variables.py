@@ -239,7 +239,7 @@ def design_suspension(template: Suspension, variables: Sequence[DesignVariable],
     the template's rig, rig file and kinematic setting kept)."""
     from elastokin.config.axle_resolver import resolve_suspension
     from elastokin.config.resolver import Resolver
-    from elastokin.config.schema import SuspensionFile
+    from elastokin.config.schema.suspension import SuspensionFile
     from elastokin.config.variants import kinematic
 
     base = plain_data(template.raw)

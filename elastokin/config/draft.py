@@ -27,8 +27,8 @@ from elastokin.config.axle_resolver import resolve_suspension
 from elastokin.config.frozen import plain_data
 from elastokin.config.loading import format_validation_error, load_suspension, read_yaml
 from elastokin.config.resolver import Resolver
-from elastokin.config.schema import DesignSpec, Frame, PartSpec, SuspensionFile
-from elastokin.config.schema_base import StrictModel
+from elastokin.config.schema.base import StrictModel
+from elastokin.config.schema.suspension import DesignSpec, Frame, PartSpec, SuspensionFile
 from elastokin.config.suspension import (
     Axle,
     Beam,

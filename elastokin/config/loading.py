@@ -26,8 +26,8 @@ from elastokin.config.axle_resolver import resolve_suspension
 from elastokin.config.bounds import TOO_MANY_STEPS
 from elastokin.config.frozen import plain_data
 from elastokin.config.resolver import Resolver
-from elastokin.config.schema import SuspensionFile
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.rig import RigSpec
+from elastokin.config.schema.suspension import SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 

@@ -3,8 +3,8 @@ the resolved suspension (plain data, no file is read here)."""
 
 from __future__ import annotations
 
-from elastokin.config.schema import MeasurementsSpec
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
+from elastokin.config.schema.suspension import MeasurementsSpec
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 

@@ -13,8 +13,8 @@ import numpy as np
 from elastokin.config.axle import joins_sides, other_copy
 from elastokin.config.beams import resolve_beams
 from elastokin.config.bounds import MIN_AXIS_ANGLE_DEG
-from elastokin.config.schema import BushingSpec, LinkSpec, RackSpec, SuspensionFile
-from elastokin.config.schema_base import AxisBetween, AxisSpec, PointSpec
+from elastokin.config.schema.base import AxisBetween, AxisSpec, PointSpec
+from elastokin.config.schema.suspension import BushingSpec, LinkSpec, RackSpec, SuspensionFile
 from elastokin.config.suspension import (
     Bushing,
     Damper,

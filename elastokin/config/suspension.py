@@ -18,7 +18,10 @@ from dataclasses import FrozenInstanceError, dataclass, field, fields, replace
 import numpy as np
 
 from elastokin.config.frozen import FrozenMapping, freeze, readonly
-from elastokin.config.schema import (
+from elastokin.config.schema.axle import VehicleSpec
+from elastokin.config.schema.motion import MotionSpec
+from elastokin.config.schema.rig import RigSpec
+from elastokin.config.schema.suspension import (
     DesignSpec,
     Frame,
     KCTestSpec,
@@ -27,9 +30,6 @@ from elastokin.config.schema import (
     ReferenceSpec,
     SolverSpec,
 )
-from elastokin.config.schema_axle import VehicleSpec
-from elastokin.config.schema_motion import MotionSpec
-from elastokin.config.schema_rig import RigSpec
 from elastokin.errors import ConfigError
 from elastokin.physics.laws import DirectionLaw
 from elastokin.physics.steering_geometry import contact_point

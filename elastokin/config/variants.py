@@ -114,7 +114,7 @@ def with_hardpoints(suspension: Suspension, hardpoints: Mapping[str, np.ndarray]
     other overrides (laws, kinematic, joint shifts) are not carried over."""
     from elastokin.config.axle_resolver import resolve_suspension
     from elastokin.config.resolver import Resolver
-    from elastokin.config.schema import SuspensionFile
+    from elastokin.config.schema.suspension import SuspensionFile
 
     unknown = sorted(set(hardpoints) - set(suspension.hardpoints))
     if unknown:

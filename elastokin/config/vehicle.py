@@ -1,4 +1,4 @@
-"""A vehicle file (:mod:`elastokin.config.schema_vehicle`) loaded: its two axles, each its
+"""A vehicle file (:mod:`elastokin.config.schema.vehicle`) loaded: its two axles, each its
 config with the vehicle's data in place of its own ``axle.vehicle`` and the table's body roll
 as its roll case, and the one set of vehicle data (README "The whole car").
 
@@ -31,8 +31,8 @@ from elastokin.config.loading import (
     read_yaml,
     suspension_from_dict,
 )
-from elastokin.config.schema_rig import RollSpec
-from elastokin.config.schema_vehicle import STANDARD_GRAVITY, VehicleFile
+from elastokin.config.schema.rig import RollSpec
+from elastokin.config.schema.vehicle import STANDARD_GRAVITY, VehicleFile
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 

@@ -13,8 +13,8 @@ import yaml
 
 from elastokin.config.confined import data_file
 from elastokin.config.loading import read_yaml
-from elastokin.config.schema import PartMeasurementSpec
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
+from elastokin.config.schema.suspension import PartMeasurementSpec
 from elastokin.config.suspension import Suspension
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm_parts import read_labelled_marks, read_part

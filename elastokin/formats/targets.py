@@ -20,7 +20,7 @@ from pydantic import Field, ValidationError, model_validator
 
 from elastokin.config.design_variables import AXES, DIRECTIONS, DesignVariable, check_variable
 from elastokin.config.loading import format_validation_error, read_yaml
-from elastokin.config.schema_base import StrictModel, Vector3
+from elastokin.config.schema.base import StrictModel, Vector3
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTICS, LOAD_CASES, channel

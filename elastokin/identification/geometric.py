@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.config.measurements import check_measurements, hardpoint_name
-from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
+from elastokin.config.schema.suspension import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, corner
 from elastokin.errors import ConfigError, MeasurementError

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elastokin.config.schema import StiffnessIdentificationSpec
+from elastokin.config.schema.suspension import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, with_bushing_laws
 from elastokin.errors import ConfigError, ElastokinError, SolverError

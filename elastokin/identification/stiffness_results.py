@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.config.schema import StiffnessIdentificationSpec
+from elastokin.config.schema.suspension import StiffnessIdentificationSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState
 from elastokin.rig.item_channels import bushing_columns

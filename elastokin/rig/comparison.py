@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import ValidationError
 
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.rig import RigSpec
 from elastokin.errors import MeasurementError
 from elastokin.rig.channels import ERRORS, LOAD_CASES
 from elastokin.rig.sweeps import Sweep, branch_names, find_sweep

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.config.schema_rig import (
+from elastokin.config.schema.rig import (
     ForceSweepSpec,
     RigSpec,
     RollSpec,

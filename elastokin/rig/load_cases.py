@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elastokin.config.schema_rig import (
+from elastokin.config.schema.rig import (
     ForceSweepSpec,
     RigSpec,
     TorqueSweepSpec,

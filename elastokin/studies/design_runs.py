@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from elastokin.config.design_variables import DesignVariable, design_suspension
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.rig import RigSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import DesignState, ModelVariant, kinematic
 from elastokin.mbs.design import build_model, design_state

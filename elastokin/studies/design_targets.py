@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.rig import RigSpec
 from elastokin.config.suspension import Suspension
 from elastokin.errors import ConfigError
 from elastokin.formats.targets import Targets, characteristic_unit

@@ -14,7 +14,7 @@ import numpy as np
 
 from elastokin.config.confined import data_folders, typed_folders
 from elastokin.config.loading import suspension_from_dict
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
 from elastokin.errors import MeasurementError

@@ -46,7 +46,7 @@ import numpy as np
 
 from elastokin.config.axle import MIRROR, mirrored_laws, other_side
 from elastokin.config.confined import data_file, data_folder
-from elastokin.config.schema import RealSuspensionSpec, SyntheticSpec
+from elastokin.config.schema.suspension import RealSuspensionSpec, SyntheticSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import (
     BallJointFriction,

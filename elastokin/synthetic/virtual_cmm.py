@@ -41,7 +41,7 @@ from scipy.spatial.transform import Rotation
 
 from elastokin.config.confined import data_file
 from elastokin.config.measurements import check_measurements, hardpoint_name
-from elastokin.config.schema import (
+from elastokin.config.schema.suspension import (
     BushingSpec,
     LinkSpec,
     MeasurementsSpec,

@@ -34,8 +34,8 @@ from scipy.spatial.transform import Rotation
 from elastokin.config.confined import data_file
 from elastokin.config.loading import suspension_from_dict
 from elastokin.config.measurements import check_motion
-from elastokin.config.schema import LinkSpec, SuspensionFile
-from elastokin.config.schema_motion import MotionSpec, MotionSyntheticSpec
+from elastokin.config.schema.motion import MotionSpec, MotionSyntheticSpec
+from elastokin.config.schema.suspension import LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner, side_couplings
 from elastokin.errors import ConfigError

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
 from elastokin.errors import MeasurementError
 from elastokin.formats.cmm_motion import WHEEL
 from elastokin.identification.motion.functional import relative_rotations, weak_direction

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from elastokin.config.measurements import check_motion
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
 from elastokin.config.suspension import Suspension
 from elastokin.config.variants import corner
 from elastokin.errors import ConfigError

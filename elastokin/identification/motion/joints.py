@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastokin.config.schema import BushingSpec, LinkSpec, SuspensionFile
-from elastokin.config.schema_motion import MotionSpec
+from elastokin.config.schema.motion import MotionSpec
+from elastokin.config.schema.suspension import BushingSpec, LinkSpec, SuspensionFile
 from elastokin.config.suspension import Suspension
 from elastokin.formats.cmm_motion import WHEEL
 from elastokin.identification.motion.functional import (

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pydantic import Field, field_validator
 
 from elastokin.config import bounds
-from elastokin.config.schema_base import AxisSpec, StrictModel
+from elastokin.config.schema.base import AxisSpec, StrictModel
 
 
 class BeamSectionSpec(StrictModel):

@@ -12,7 +12,7 @@ from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
 from elastokin.config.plausibility import fraction, implausible, plausible
-from elastokin.config.schema_base import AxisSpec, CurveSpec, Point3, PointSpec, StrictModel
+from elastokin.config.schema.base import AxisSpec, CurveSpec, Point3, PointSpec, StrictModel
 
 
 class StopSpec(StrictModel):

@@ -14,8 +14,8 @@ from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
 from elastokin.config.plausibility import plausible
-from elastokin.config.schema_axle import AxleSpec, StopSpec
-from elastokin.config.schema_base import (
+from elastokin.config.schema.axle import AxleSpec, StopSpec
+from elastokin.config.schema.base import (
     AxisSpec,
     CurveSpec,
     Point3,
@@ -23,9 +23,9 @@ from elastokin.config.schema_base import (
     StrictModel,
     Vector3,
 )
-from elastokin.config.schema_beam import BeamSpec
-from elastokin.config.schema_motion import MotionSpec
-from elastokin.config.schema_rig import RigSpec
+from elastokin.config.schema.beam import BeamSpec
+from elastokin.config.schema.motion import MotionSpec
+from elastokin.config.schema.rig import RigSpec
 
 
 class Units(StrictModel):

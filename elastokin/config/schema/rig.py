@@ -10,7 +10,7 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config import bounds
-from elastokin.config.schema_base import StrictModel, Vector3
+from elastokin.config.schema.base import StrictModel, Vector3
 
 
 class TravelSpec(StrictModel):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from pydantic import Field, field_validator, model_validator
 
-from elastokin.config.schema_base import StrictModel
+from elastokin.config.schema.base import StrictModel
 
 #: most positions a motion plan may name (each is one CMM file; a bound on the work)
 MAX_POSITIONS = 200

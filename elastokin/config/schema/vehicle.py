@@ -13,9 +13,9 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from elastokin.config.plausibility import fraction, plausible
-from elastokin.config.schema_axle import AxleMassesSpec
-from elastokin.config.schema_base import StrictModel
-from elastokin.config.schema_rig import RollSpec
+from elastokin.config.schema.axle import AxleMassesSpec
+from elastokin.config.schema.base import StrictModel
+from elastokin.config.schema.rig import RollSpec
 
 #: the standard acceleration of gravity (m/s^2): axle weights from masses, N per g
 STANDARD_GRAVITY = 9.80665
