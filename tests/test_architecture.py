@@ -65,7 +65,7 @@ def test_every_module_is_in_a_layer():
 
 
 def test_report_and_api_import_without_exudyn():
-    code = ("import sys, elastokin, elastokin.report.files, elastokin.report.html, "
+    code = ("import sys, elastokin, elastokin.report.files, elastokin.report.html.page, "
             "elastokin.report.charts, elastokin.rig.channels; "
             "print('exudyn' in sys.modules, 'matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -275,7 +275,7 @@ def test_a_shared_part_carries_both_wheels_and_items_on_both_sides():
     # the wheels move together (summary.json axle.dependent, the report's make-up); not on
     # an independent axle, whose wheels the held steering rack and the anti-roll bar join
     from elastokin.report.files import axle_data
-    from elastokin.report.html_axle import make_up_rows
+    from elastokin.report.html.axle import make_up_rows
 
     assert axle_data(s)["dependent"]
     assert ["wheel motion", "independent"] not in make_up_rows(axle_data(s))

@@ -16,7 +16,7 @@ import pytest
 from click.testing import CliRunner
 
 from elastokin.cli.main import main
-from elastokin.report.html import HEADINGS, solver_rows
+from elastokin.report.html.page import HEADINGS, solver_rows
 from elastokin.rig.channels import AXLE_CHARACTERISTIC_LIST, CHARACTERISTIC_LIST, display_unit
 
 from .conftest import CASE, ROOT

@@ -18,7 +18,7 @@ from elastokin.formats.config_edit import check_written, edited_config
 from elastokin.formats.targets import characteristic_unit
 from elastokin.report import design_charts
 from elastokin.report.files import config_provenance
-from elastokin.report.html_parts import esc, figure, note, table
+from elastokin.report.html.parts import esc, figure, note, table
 
 CSS = ("body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em;color:#222}"
        "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;"

@@ -313,7 +313,7 @@ def write_kc_results(run: KCRun, folder: Path, svg: bool = False) -> dict:
     Returns the summary."""
     from elastokin.report.axle_charts import axle_chart_inputs
     from elastokin.report.charts import kc_charts
-    from elastokin.report.html import write_report
+    from elastokin.report.html.page import write_report
     from elastokin.report.load_charts import LOAD_CHART, load_chart_data
     from elastokin.report.view3d import run_views, view_fragment
 

@@ -104,7 +104,7 @@ def write_vehicle_results(run: VehicleRun, folder: Path, svg: bool = False) -> d
     """Every file of the car into ``folder``: each axle's results in ``front/`` and
     ``rear/``, car.csv, the car's charts (PNG; with ``svg`` also SVG), summary.json and
     report.html. Returns the car's summary."""
-    from elastokin.report.html_vehicle import write_vehicle_report
+    from elastokin.report.html.vehicle import write_vehicle_report
     from elastokin.report.vehicle_charts import vehicle_charts
 
     axles = {}

@@ -15,10 +15,10 @@ from pathlib import Path
 
 from elastokin.report.axle_charts import AXLE_CHARTS
 from elastokin.report.charts import CHARTS, chart_caption
-from elastokin.report.html_axle import axle_section
-from elastokin.report.html_loads import loads_section
-from elastokin.report.html_motion import motion_section
-from elastokin.report.html_parts import esc, figure, note, num, page, table
+from elastokin.report.html.axle import axle_section
+from elastokin.report.html.loads import loads_section
+from elastokin.report.html.motion import motion_section
+from elastokin.report.html.parts import esc, figure, note, num, page, table
 from elastokin.report.load_charts import LOAD_CHART
 from elastokin.report.text import fixed
 from elastokin.rig.channels import CHANNELS, CHARACTERISTIC_LIST, ERROR_LIST, channel

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.html.parts import esc, figure, note, num, table
 from elastokin.report.load_charts import LOAD_CHART, LOAD_CHART_TITLE
 
 #: N*mm -> N*m, as the report shows moments

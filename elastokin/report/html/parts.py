@@ -1,5 +1,5 @@
-"""The pieces ``report.html`` is made of (:mod:`elastokin.report.html`,
-:mod:`elastokin.report.html_axle`): escaped text, numbers, tables, notes and the figures of the
+"""The pieces ``report.html`` is made of (:mod:`elastokin.report.html.page`,
+:mod:`elastokin.report.html.axle`): escaped text, numbers, tables, notes and the figures of the
 charts (PNG embedded as data)."""
 
 from __future__ import annotations

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from elastokin.report.html import solver_rows
-from elastokin.report.html_parts import esc, figure, note, num, page, table
+from elastokin.report.html.page import solver_rows
+from elastokin.report.html.parts import esc, figure, note, num, page, table
 from elastokin.report.vehicle_charts import VEHICLE_CHARTS
 from elastokin.report.vehicle_text import car_rows
 from elastokin.rig.channels import (

@@ -11,7 +11,7 @@ import re
 from pathlib import Path
 
 from elastokin.report.axle_charts import AXLE_CHARTS, axle_chart_caption
-from elastokin.report.html_parts import esc, figure, note, num, table
+from elastokin.report.html.parts import esc, figure, note, num, table
 from elastokin.report.text import axle_models
 from elastokin.rig.channels import AXLE_CHARACTERISTICS, CHARACTERISTIC_LIST, display_unit
 

@@ -4,7 +4,7 @@ synthetic data, their error against the truth beside the disassembly method's.""
 
 from __future__ import annotations
 
-from elastokin.report.html_parts import esc, note, num, table
+from elastokin.report.html.parts import esc, note, num, table
 
 EHRIG = ("SCoRE: Ehrig et al. 2006, J. Biomech. 39:2798; SARA: Ehrig et al. 2007, "
          "J. Biomech. 40:2150")
