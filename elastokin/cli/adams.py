@@ -23,7 +23,7 @@ from elastokin.cli.common import (
     data_hint,
     data_option,
     fail,
-    os_error,
+    one_line_errors,
 )
 from elastokin.errors import ConfigError, ElastokinError
 
@@ -93,7 +93,7 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
     from elastokin.formats.config_yaml import dump_config
 
     with WarningLog() as log:
-        try:
+        with one_line_errors():
             _check_out_file(out_path)  # before anything is read
             if (hardpoints_path is None) == (assembly_path is None):
                 raise ConfigError("import-adams: give --hardpoints (a subsystem file or "
@@ -120,10 +120,6 @@ def import_adams(hardpoints_path: Path | None, assembly_path: Path | None,
                        f"template {template_path} (sha256 {_sha(template_path)})",
                        *(_file_note(f, read_bushing) for f in dict.fromkeys(read))]
             text = dump_config(cfg, _import_header(sources, cfg["frame"]))
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
         try:
             _write_atomically(out_path, text)
         except OSError as exc:
@@ -246,39 +242,34 @@ def export_adams(config_path: Path, out_dir: Path, mapping_path: Path | None,
 
     output = _export_output(out_dir)
     warnings: list[str] = []
-    with WarningLog() as log:
-        try:
-            output.check()  # before any computation
-            mapping = read_mapping(mapping_path) if mapping_path is not None else None
-            s = load_suspension(config_path)
-            if identified:
-                if s.measurements is None:
-                    raise ConfigError(f"{config_path}: --identified needs a 'measurements' "
-                                      "section")
-                from elastokin.studies.identification import identify_geometry
+    with WarningLog() as log, one_line_errors():
+        output.check()  # before any computation
+        mapping = read_mapping(mapping_path) if mapping_path is not None else None
+        s = load_suspension(config_path)
+        if identified:
+            if s.measurements is None:
+                raise ConfigError(f"{config_path}: --identified needs a 'measurements' "
+                                  "section")
+            from elastokin.studies.identification import identify_geometry
 
-                ident = identify_geometry(s)
-                s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
-                                         s.sha256)
-            # an axle: both corners (left/right pairs), the anti-roll bar and the steering
-            preload, springs = None, None
-            if (s.design.balance_bushing_preloads and s.bushings) or s.design.balance_spring:
-                from elastokin.mbs.design import design_state
+            ident = identify_geometry(s)
+            s = suspension_from_dict(ident.identified_config, f"{config_path} (identified)",
+                                     s.sha256)
+        # an axle: both corners (left/right pairs), the anti-roll bar and the steering
+        preload, springs = None, None
+        if (s.design.balance_bushing_preloads and s.bushings) or s.design.balance_spring:
+            from elastokin.mbs.design import design_state
 
-                state = design_state(s)
-                preload, springs = state.bushing_preload, state.spring_force_N
-            spec = subsystem_spec(s, mapping, database, template_name, major_role, minor_role,
-                                  warnings, out_dir.name.removesuffix(".cdb"))
-            with output as tmp:
-                files = write_files(s, tmp, preload, range_mm, range_deg, spring_force=springs,
-                                    mapping=mapping, spec=spec, warnings=warnings)
-                if kc_csv is not None:
-                    write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
-                    files.append(tmp / "kc_adams.csv")
-                names = [f.relative_to(tmp).as_posix() for f in files]
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+            state = design_state(s)
+            preload, springs = state.bushing_preload, state.spring_force_N
+        spec = subsystem_spec(s, mapping, database, template_name, major_role, minor_role,
+                              warnings, out_dir.name.removesuffix(".cdb"))
+        with output as tmp:
+            files = write_files(s, tmp, preload, range_mm, range_deg, spring_force=springs,
+                                mapping=mapping, spec=spec, warnings=warnings)
+            if kc_csv is not None:
+                write_adams_kc_csv(kc_csv, tmp / "kc_adams.csv", s.frame)
+                files.append(tmp / "kc_adams.csv")
+            names = [f.relative_to(tmp).as_posix() for f in files]
     log.echo(warnings)
     click.echo(f"wrote {len(names)} files in {out_dir}/: " + ", ".join(names))

@@ -33,6 +33,19 @@ def os_error(exc: OSError) -> str:
     return f"{exc.filename}: {reason}" if exc.filename else reason
 
 
+@contextlib.contextmanager
+def one_line_errors():
+    """A command's body: an :class:`~elastokin.errors.ElastokinError` (bad input, no
+    convergence, ...) or an OS error (a file that cannot be read or written) ends the command
+    with its one error line and exit code 1, never a traceback."""
+    try:
+        yield
+    except ElastokinError as exc:
+        fail(str(exc))
+    except OSError as exc:
+        fail(os_error(exc))
+
+
 def cannot_write(option: str, path: Path, reason: str) -> ElastokinError:
     return ElastokinError(f"{option} {path}: cannot write ({reason})")
 

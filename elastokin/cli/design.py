@@ -13,9 +13,8 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, fail, os_error, rig_option
+from elastokin.cli.common import Output, WarningLog, one_line_errors, rig_option
 from elastokin.cli.kc import progress_bar
-from elastokin.errors import ElastokinError
 
 EXIT_NOT_MET = 4
 #: design runs the progress bar expects of an optimisation
@@ -110,16 +109,11 @@ def _study(out_dir: Path, marker: str, config_path: Path, rig_path: Path | None,
     ``out_dir`` (checked before anything is computed, replaced only when the run
     succeeds); errors as one line; the run's warnings printed once each."""
     output = Output(out_dir, marker=marker)
-    with WarningLog() as log:
-        try:
-            output.check()
-            suspension = nominal_suspension(config_path, rig_path)
-            with output as tmp, progress_bar(stages, quiet) as progress:
-                out = work(suspension, tmp, progress)
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+    with WarningLog() as log, one_line_errors():
+        output.check()
+        suspension = nominal_suspension(config_path, rig_path)
+        with output as tmp, progress_bar(stages, quiet) as progress:
+            out = work(suspension, tmp, progress)
     log.echo()
     return out
 

@@ -17,9 +17,8 @@ from elastokin.cli.common import (
     check_writable,
     data_hint,
     data_option,
-    fail,
     kc_stages,
-    os_error,
+    one_line_errors,
     progress_bar,
     rig_option,
 )
@@ -82,22 +81,17 @@ def kc(config_path: Path | None, vehicle_path: Path | None, out_dir: Path | None
 
     out_dir = out_dir or Path("results") / config_path.stem
     output = Output(out_dir)
-    with WarningLog() as log:
-        try:
-            output.check()  # before any computation
-            suspension = load_suspension_with_rig(config_path, rig_path)
-            chosen = select_models(suspension, models)
-            with output as tmp, progress_bar(kc_stages(suspension, chosen), quiet) as progress:
-                cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
-                # every model run of the fit advances the bar too
-                run = run_kc(suspension, progress, progress, chosen, cache)
-                progress("writing results")
-                run.add_warnings(log.messages)  # into summary.json
-                summary = write_kc_results(run, tmp, svg)
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+    with WarningLog() as log, one_line_errors():
+        output.check()  # before any computation
+        suspension = load_suspension_with_rig(config_path, rig_path)
+        chosen = select_models(suspension, models)
+        with output as tmp, progress_bar(kc_stages(suspension, chosen), quiet) as progress:
+            cache = ResultCache(out_dir / ".cache", tmp / ".cache", enabled=not refit)
+            # every model run of the fit advances the bar too
+            run = run_kc(suspension, progress, progress, chosen, cache)
+            progress("writing results")
+            run.add_warnings(log.messages)  # into summary.json
+            summary = write_kc_results(run, tmp, svg)
     log.echo(summary["warnings"])
     if not quiet:
         click.echo(kc_table(summary, out_dir))
@@ -145,31 +139,26 @@ def identify(config_path: Path, out_dir: Path | None, stiffness: bool, quiet: bo
 
     out_dir = out_dir or Path("results") / f"{config_path.stem}-identified"
     output = Output(out_dir, marker=("identification.json", "motion_identification.json"))
-    with WarningLog() as log:
-        try:
-            output.check()  # before any computation
-            suspension = load_suspension(config_path)
-            stages = 4 + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * stiffness
-            with output as tmp, progress_bar(stages, quiet) as progress:
-                test = read_test_sweeps(suspension)[0] if stiffness else []
-                ident = (identify_geometry(suspension, progress=progress)
-                         if suspension.measurements is not None or suspension.motion is None
-                         else None)
-                motion = motion_geometry(suspension, progress)
-                result = _identified_fit(suspension, ident, motion, test, progress) \
-                    if stiffness else None
-                progress("writing results")
-                files = [] if ident is None else write_identification_results(
-                    tmp, ident, result, config_path, out_dir)
-                doc = None if ident is None else json.loads(
-                    (tmp / "identification.json").read_text())
-                if motion is not None:
-                    files += write_motion_results(tmp, motion, result if ident is None
-                                                  else None, config_path, out_dir, doc)
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+    with WarningLog() as log, one_line_errors():
+        output.check()  # before any computation
+        suspension = load_suspension(config_path)
+        stages = 4 + (suspension.motion is not None) + (2 + FIT_RUNS_EXPECTED) * stiffness
+        with output as tmp, progress_bar(stages, quiet) as progress:
+            test = read_test_sweeps(suspension)[0] if stiffness else []
+            ident = (identify_geometry(suspension, progress=progress)
+                     if suspension.measurements is not None or suspension.motion is None
+                     else None)
+            motion = motion_geometry(suspension, progress)
+            result = _identified_fit(suspension, ident, motion, test, progress) \
+                if stiffness else None
+            progress("writing results")
+            files = [] if ident is None else write_identification_results(
+                tmp, ident, result, config_path, out_dir)
+            doc = None if ident is None else json.loads(
+                (tmp / "identification.json").read_text())
+            if motion is not None:
+                files += write_motion_results(tmp, motion, result if ident is None
+                                              else None, config_path, out_dir, doc)
     log.echo([*(ident.all_warnings if ident is not None else []),
               *(motion.warnings if motion is not None else [])])
     if not quiet:
@@ -244,45 +233,40 @@ def synthesize(config_path: Path, seed: int | None, out_dir: Path | None,
     from elastokin.synthetic.virtual_cmm import synthesize as run_synthesis
     from elastokin.synthetic.virtual_motion import synthesize_motion
 
-    with WarningLog() as log:
-        try:
-            for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir),
-                                   ("--motion-out", motion_dir)):
-                if folder is not None:  # before any computation
-                    _check_data_folder(folder, option)
-            s = load_suspension(config_path)
-            cmm = only == "cmm" or (only is None and (s.measurements is not None
-                                                      or s.motion is None))
-            kc_test = only == "kc-test" or (only is None and s.kc_test is not None
-                                            and s.kc_test.synthetic is not None)
-            motion = only == "motion" or (only is None and s.motion is not None)
-            # the config's folders: inside its own folder or the working folder (README)
-            if cmm and out_dir is None and s.measurements is not None:
-                _check_data_folder(data_folder(s, "measurements"), "measurements.folder")
-            if kc_test and kc_test_dir is None and s.kc_test is not None:
-                _check_data_folder(data_folder(s, "kc_test"), "kc_test.folder")
-            if motion and motion_dir is None and s.motion is not None:
-                _check_data_folder(data_folder(s, "motion"), "motion.folder")
-            written = []
-            with progress_bar(cmm + motion + (kc_test_runs(s) if kc_test else 0)) as progress:
-                if cmm:
-                    progress("virtual CMM: as-built suspension and its measurements")
-                    files = run_synthesis(s, seed, out_dir)
-                    written.append(f"wrote {len(files)} files in {files[0].parent}/: "
-                                   + ", ".join(f.name for f in files))
-                if motion:
-                    progress("virtual CMM: the as-built suspension at every rig position")
-                    files = synthesize_motion(s, seed, motion_dir)
-                    written.append(f"wrote {len(files)} files in {files[0].parent}/ (the "
-                                   "motion plan)")
-                if kc_test:
-                    files = write_kc_test_files(s, kc_test_dir, seed=seed, progress=progress)
-                    written.append(f"wrote {len(files)} K&C test files in "
-                                   f"{files[0].parent}/: " + ", ".join(f.name for f in files))
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+    with WarningLog() as log, one_line_errors():
+        for option, folder in (("--out", out_dir), ("--kc-test-out", kc_test_dir),
+                               ("--motion-out", motion_dir)):
+            if folder is not None:  # before any computation
+                _check_data_folder(folder, option)
+        s = load_suspension(config_path)
+        cmm = only == "cmm" or (only is None and (s.measurements is not None
+                                                  or s.motion is None))
+        kc_test = only == "kc-test" or (only is None and s.kc_test is not None
+                                        and s.kc_test.synthetic is not None)
+        motion = only == "motion" or (only is None and s.motion is not None)
+        # the config's folders: inside its own folder or the working folder (README)
+        if cmm and out_dir is None and s.measurements is not None:
+            _check_data_folder(data_folder(s, "measurements"), "measurements.folder")
+        if kc_test and kc_test_dir is None and s.kc_test is not None:
+            _check_data_folder(data_folder(s, "kc_test"), "kc_test.folder")
+        if motion and motion_dir is None and s.motion is not None:
+            _check_data_folder(data_folder(s, "motion"), "motion.folder")
+        written = []
+        with progress_bar(cmm + motion + (kc_test_runs(s) if kc_test else 0)) as progress:
+            if cmm:
+                progress("virtual CMM: as-built suspension and its measurements")
+                files = run_synthesis(s, seed, out_dir)
+                written.append(f"wrote {len(files)} files in {files[0].parent}/: "
+                               + ", ".join(f.name for f in files))
+            if motion:
+                progress("virtual CMM: the as-built suspension at every rig position")
+                files = synthesize_motion(s, seed, motion_dir)
+                written.append(f"wrote {len(files)} files in {files[0].parent}/ (the "
+                               "motion plan)")
+            if kc_test:
+                files = write_kc_test_files(s, kc_test_dir, seed=seed, progress=progress)
+                written.append(f"wrote {len(files)} K&C test files in "
+                               f"{files[0].parent}/: " + ", ".join(f.name for f in files))
     log.echo()
     click.echo("\n".join(written))
 

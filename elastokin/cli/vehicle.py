@@ -10,8 +10,13 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import Output, WarningLog, fail, kc_stages, os_error, progress_bar
-from elastokin.errors import ElastokinError
+from elastokin.cli.common import (
+    Output,
+    WarningLog,
+    kc_stages,
+    one_line_errors,
+    progress_bar,
+)
 
 
 def kc_vehicle(vehicle_path: Path, out_dir: Path | None, rig_path: Path | None,
@@ -27,24 +32,19 @@ def kc_vehicle(vehicle_path: Path, out_dir: Path | None, rig_path: Path | None,
 
     out_dir = out_dir or Path("results") / vehicle_path.stem
     output = Output(out_dir)
-    with WarningLog() as log:
-        try:
-            output.check()  # before any computation
-            vehicle = load_vehicle(vehicle_path, rig_path)
-            stages = 2 + sum(kc_stages(vehicle.axle(role), select_models(vehicle.axle(role),
-                                                                       models))
-                             for role in ROLES)
-            with output as tmp, progress_bar(stages, quiet) as progress:
-                caches = {role: ResultCache(out_dir / role / ".cache", tmp / role / ".cache",
-                                            enabled=not refit) for role in ROLES}
-                run = run_vehicle(vehicle, progress, progress, models, caches)
-                progress("writing results")
-                run.add_warnings(log.messages)  # into summary.json
-                summary = write_vehicle_results(run, tmp, svg)
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+    with WarningLog() as log, one_line_errors():
+        output.check()  # before any computation
+        vehicle = load_vehicle(vehicle_path, rig_path)
+        stages = 2 + sum(kc_stages(vehicle.axle(role), select_models(vehicle.axle(role),
+                                                                   models))
+                         for role in ROLES)
+        with output as tmp, progress_bar(stages, quiet) as progress:
+            caches = {role: ResultCache(out_dir / role / ".cache", tmp / role / ".cache",
+                                        enabled=not refit) for role in ROLES}
+            run = run_vehicle(vehicle, progress, progress, models, caches)
+            progress("writing results")
+            run.add_warnings(log.messages)  # into summary.json
+            summary = write_vehicle_results(run, tmp, svg)
     log.echo(summary["warnings"])
     if not quiet:
         click.echo(vehicle_table(summary, out_dir))

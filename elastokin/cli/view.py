@@ -10,8 +10,13 @@ from pathlib import Path
 
 import click
 
-from elastokin.cli.common import WarningLog, check_writable, fail, os_error, rig_option
-from elastokin.errors import ElastokinError
+from elastokin.cli.common import (
+    WarningLog,
+    check_writable,
+    fail,
+    one_line_errors,
+    rig_option,
+)
 
 
 @click.command()
@@ -36,28 +41,23 @@ def view(config_path: Path, out_path: Path | None, load_case: str | None,
     from elastokin.report.view3d import model_view, write_view_page
 
     out_path = out_path or Path("results") / f"{config_path.stem}.view.html"
-    with WarningLog() as log:
-        try:
-            check_writable(out_path)
-            if load_case is None:
-                draft = draft_suspension(config_path)
-                views = [design_view(draft)]
-            else:
-                from elastokin.config.loading import load_suspension_with_rig
-                from elastokin.studies.view import load_case_sweeps
+    with WarningLog() as log, one_line_errors():
+        check_writable(out_path)
+        if load_case is None:
+            draft = draft_suspension(config_path)
+            views = [design_view(draft)]
+        else:
+            from elastokin.config.loading import load_suspension_with_rig
+            from elastokin.studies.view import load_case_sweeps
 
-                s = load_suspension_with_rig(config_path, rig_path)
-                draft = draft_of(s)
-                mv = model_view(s.label, s, {load_case: load_case_sweeps(s, load_case)})
-                mv.frames = mv.frames[1:] + mv.frames[:1]  # the load case first
-                views = [mv]
-            notes = [f"{draft.source}: {views[0].scene.frame_text}; mm. elastokin view."]
-            _write(out_path, lambda p: write_view_page(p, f"{draft.name} (3D view)", views,
-                                                       list(draft.errors), notes))
-        except ElastokinError as exc:
-            fail(str(exc))
-        except OSError as exc:
-            fail(os_error(exc))
+            s = load_suspension_with_rig(config_path, rig_path)
+            draft = draft_of(s)
+            mv = model_view(s.label, s, {load_case: load_case_sweeps(s, load_case)})
+            mv.frames = mv.frames[1:] + mv.frames[:1]  # the load case first
+            views = [mv]
+        notes = [f"{draft.source}: {views[0].scene.frame_text}; mm. elastokin view."]
+        _write(out_path, lambda p: write_view_page(p, f"{draft.name} (3D view)", views,
+                                                   list(draft.errors), notes))
     log.echo()
     click.echo(f"wrote {out_path}: open it in a browser")
     if draft.errors:
